@@ -1,0 +1,150 @@
+"""The Python API: everything the CLI does, a script can do by import.
+
+    import pounding_cli as pound
+    model = pound.load_model("inputs/paper_wide_gap.toml")
+    print(pound.describe(model)["buildings"][0]["periods"])
+    result = pound.run_model(model, output="out.h5")
+    result.buildings["left"].column("C9")      # peak interstorey deflections, (storeys, 3)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from . import __version__
+from .assembly import AUTO_DT_FRACTION, GroundMotion, System, TimeGrid, assemble, ground_motion, time_grid
+from .errors import InputError
+from .model import LoadedModel, load_model
+from .results import RunResult, collect, write_hdf5
+from .solver import simulate
+
+G = 9.80665
+MAX_OUTPUT_BYTES = 8 * 2**30
+"""Refuse runs whose stored histories would exceed this (8 GiB)."""
+
+
+def _loaded(model: str | Path | LoadedModel) -> LoadedModel:
+    return model if isinstance(model, LoadedModel) else load_model(model)
+
+
+def prepare(model: str | Path | LoadedModel) -> tuple[LoadedModel, System, GroundMotion, TimeGrid]:
+    """Validate, assemble, read the record and choose the time grid (no integration)."""
+    loaded = _loaded(model)
+    system = assemble(loaded)
+    ground = ground_motion(loaded)
+    grid = time_grid(loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source))
+    size = grid.n_outputs * system.n_dof * 8 * 3
+    if size > MAX_OUTPUT_BYTES:
+        raise InputError(
+            f"the stored histories would take {size / 2**30:.1f} GiB ({grid.n_outputs} samples × "
+            f"{system.n_dof} DOFs × 3); the limit is {MAX_OUTPUT_BYTES / 2**30:.0f} GiB: "
+            "raise the output interval or shorten the duration",
+            file=loaded.source,
+            field="analysis.output_interval",
+        )
+    return loaded, system, ground, grid
+
+
+def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
+    """Hash of what determines the result: resolved model, record file bytes, pound version."""
+    payload = {
+        "model": json.loads(loaded.model.model_dump_json()),
+        "records": ground.file_sha256,
+        "pound_version": __version__,
+    }
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
+    """What a model resolves to: masses, periods, damping, record, time step (JSON-ready)."""
+    loaded, system, ground, grid = prepare(model)
+    m = loaded.model
+    buildings = []
+    for bld, spec in zip(system.buildings, m.buildings):
+        n = min(6, bld.modes.omega.size)
+        masses = bld.mass.reshape(-1, 3)
+        buildings.append(
+            {
+                "name": bld.name,
+                "storeys": bld.n_floors,
+                "height_m": float(bld.elevation[-1]),
+                "total_mass_kg": float(masses[:, 0].sum()),
+                "floor_masses_kg": masses[:, 0].tolist(),
+                "rotational_inertia_kgm2": masses[:, 2].tolist(),
+                "columns": len(bld.column_lines),
+                "periods_s": bld.modes.periods[:n].tolist(),
+                "participating_mass_ratio_x_y_theta": bld.modes.participation[:n].tolist(),
+                "rayleigh": {
+                    "modes": list(spec.damping.modes),
+                    "ratios": list(spec.damping.ratios),
+                    "a0_per_s": bld.rayleigh[0],
+                    "a1_s": bld.rayleigh[1],
+                },
+                "omega_max_rad_s": float(bld.modes.omega[-1]),
+            }
+        )
+    return {
+        "file": str(loaded.source),
+        "title": m.title,
+        "buildings": buildings,
+        "excitation": {
+            "record": m.excitation.record.name,
+            "components": list(m.excitation.components),
+            "angle_deg": m.excitation.angle,
+            "scale": m.excitation.scale,
+            "dt_s": ground.dt,
+            "duration_s": ground.duration,
+            "pga_g": {
+                "X": float(np.abs(ground.acceleration[:, 0]).max() / G),
+                "Y": float(np.abs(ground.acceleration[:, 1]).max() / G),
+            },
+            "notes": list(ground.notes),
+        },
+        "analysis": {
+            "dt_s": grid.dt,
+            "dt_auto": m.analysis.dt == "auto",
+            "dt_auto_fraction": AUTO_DT_FRACTION,
+            "stability_limit_s": grid.stability_limit,
+            "output_interval_s": grid.output_interval,
+            "duration_s": grid.duration,
+            "steps": grid.n_steps,
+            "outputs": grid.n_outputs,
+        },
+    }
+
+
+def run_model(
+    model: str | Path | LoadedModel,
+    output: str | Path | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> RunResult:
+    """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
+    marked by its status). Check `result.complete`."""
+    loaded, system, ground, grid = prepare(model)
+    t0 = time.perf_counter()
+    response = simulate(system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress)
+    diagnostics = {
+        "integrator": "central difference",
+        "dt": grid.dt,
+        "dt_auto": loaded.model.analysis.dt == "auto",
+        "stability_limit": grid.stability_limit,
+        "output_interval": grid.output_interval,
+        "steps": response.steps,
+        "contact_steps": 0,
+        "n_dof": system.n_dof,
+        "wall_time_s": response.wall_time,
+        "us_per_step": 1e6 * response.wall_time / max(response.steps, 1),
+        "run_time_s": time.perf_counter() - t0,
+        "record_notes": "; ".join(ground.notes),
+    }
+    result = collect(system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics)
+    result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
+    if output is not None:
+        write_hdf5(result, output)
+    return result

@@ -1,0 +1,177 @@
+"""One building as arrays: floor masses at mass centres, storey stiffness matrices, its
+global K, modes and Rayleigh coefficients. Everything is in global plan coordinates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import Building, Material
+from .columns import column_local_stiffness, column_plan_stiffness, storey_stiffness
+from .modal import Modes, modes, rayleigh_coefficients
+from .polygon import polar_moment_about_centroid, polygon_area, polygon_centroid
+
+
+@dataclass(frozen=True)
+class ColumnLine:
+    """A named column line of a building (the rows of the HDF5 `columns` table)."""
+
+    name: str
+    local: tuple[float, float]  # building coordinates, m
+    plan: tuple[float, float]  # global coordinates, m
+    section: tuple[float, float]  # [b_x, b_y] m, lowest storey where present
+    angle: float  # degrees from the building's x axis
+
+
+@dataclass(frozen=True)
+class ColumnInstance:
+    """A column in one storey, for interstorey deflections."""
+
+    line: int  # index into the building's column lines
+    storey: int  # 0 = ground storey
+    arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global axes)
+    arm_top: np.ndarray  # offset from the top floor's mass centre, m (global axes)
+
+
+@dataclass(frozen=True)
+class BuildingArrays:
+    """A building turned into arrays (floors bottom up, DOFs u_x, u_y, θ per floor)."""
+
+    name: str
+    rotation: float  # rad, building x from global X
+    mass: np.ndarray  # (3N,) diagonal of M: m, m, J per floor (kg, kg, kg·m²)
+    mass_centre: np.ndarray  # (N, 2) global plan position, m
+    elevation: np.ndarray  # (N,) floor level above the ground, m
+    slabs: list[np.ndarray]  # N counter-clockwise (n_v, 2) global outlines at rest, m
+    storey_k: np.ndarray  # (N, 6, 6): storey s links floor s−1 (ground for s = 0) and s
+    stiffness: np.ndarray  # (3N, 3N) global K of the building
+    column_lines: list[ColumnLine]
+    columns: list[ColumnInstance]
+    modes: Modes
+    rayleigh: tuple[float, float]  # (a0 1/s, a1 s)
+
+    @property
+    def n_floors(self) -> int:
+        return self.elevation.size
+
+
+def _plan_transform(building: Building):
+    phi = np.radians(building.rotation)
+    rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+    origin = np.asarray(building.origin, dtype=float)
+    return phi, (lambda p: origin + rot @ np.asarray(p, dtype=float)), rot
+
+
+def assemble_building(
+    building: Building, materials: dict[str, Material], field: str, source: str
+) -> BuildingArrays:
+    """Arrays of one building. `field` is its path in the model (for error messages)."""
+    phi, to_plan, rot = _plan_transform(building)
+    storeys = building.storeys()
+    n = len(storeys)
+    mass = np.empty(3 * n)
+    centre = np.empty((n, 2))
+    elevation = np.cumsum([f.height for f in storeys])
+    slabs = []
+    for i, floor in enumerate(storeys):
+        local = np.asarray(floor.slab, dtype=float)
+        area = polygon_area(local)
+        m = floor.mass if floor.mass is not None else floor.mass_per_area * area
+        j = floor.rotational_inertia or m * polar_moment_about_centroid(local) / area
+        mass[3 * i : 3 * i + 3] = m, m, j
+        centre[i] = to_plan(polygon_centroid(local) + np.asarray(floor.eccentricity))
+        slabs.append(np.array([to_plan(p) for p in local]))
+
+    lines: dict[str, int] = {}
+    column_lines: list[ColumnLine] = []
+    instances: list[ColumnInstance] = []
+    storey_k = np.empty((n, 6, 6))
+    for s, floor in enumerate(storeys):
+        plan_k, arms_b, arms_t = [], [], []
+        for col in floor.all_columns():
+            if col.name not in lines:
+                lines[col.name] = len(column_lines)
+                column_lines.append(
+                    ColumnLine(col.name, (col.x, col.y), tuple(to_plan((col.x, col.y))), col.section, col.angle)
+                )
+            e = materials[col.material].elastic_modulus
+            kx, ky = column_local_stiffness(e, *col.section, floor.height)
+            plan_k.append(column_plan_stiffness(kx, ky, phi + np.radians(col.angle)))
+            p = to_plan((col.x, col.y))
+            arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
+            arms_b.append(arm_b)
+            arms_t.append(p - centre[s])
+            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1]))
+        storey_k[s] = storey_stiffness(plan_k, arms_b, arms_t)
+        _check_storey(storey_k[s], s, building, field, source)
+
+    stiffness = global_stiffness(storey_k)
+    building_modes = modes(stiffness, mass, phi)
+    (i, j), (zi, zj) = building.damping.modes, building.damping.ratios
+    if max(i, j) > 3 * n:
+        raise InputError(
+            f"mode {max(i, j)} asked for, but the building has {3 * n} modes (3 per floor)",
+            file=source,
+            field=f"{field}.damping.modes",
+        )
+    w = building_modes.omega
+    try:
+        rayleigh = rayleigh_coefficients(w[i - 1], w[j - 1], zi, zj)
+    except ValueError as exc:
+        raise InputError(
+            f"modes {i} and {j} have the same frequency ({exc}), so Rayleigh damping cannot be "
+            "fixed by them; choose two modes with different periods, e.g. [1, 3] for a "
+            "symmetric building",
+            file=source,
+            field=f"{field}.damping.modes",
+        ) from None
+    return BuildingArrays(
+        name=building.name,
+        rotation=phi,
+        mass=mass,
+        mass_centre=centre,
+        elevation=elevation,
+        slabs=slabs,
+        storey_k=storey_k,
+        stiffness=stiffness,
+        column_lines=column_lines,
+        columns=instances,
+        modes=building_modes,
+        rayleigh=rayleigh,
+    )
+
+
+def global_stiffness(storey_k: np.ndarray) -> np.ndarray:
+    """Dense 3N×3N K from storey matrices; storey 0's bottom is the fixed ground."""
+    n = storey_k.shape[0]
+    k = np.zeros((3 * n, 3 * n))
+    for s in range(n):
+        top = slice(3 * s, 3 * s + 3)
+        k[top, top] += storey_k[s, 3:, 3:]
+        if s > 0:
+            bot = slice(3 * s - 3, 3 * s)
+            k[bot, bot] += storey_k[s, :3, :3]
+            k[bot, top] += storey_k[s, :3, 3:]
+            k[top, bot] += storey_k[s, 3:, :3]
+    return k
+
+
+def _check_storey(k6: np.ndarray, s: int, building: Building, field: str, source: str) -> None:
+    """A storey must resist x, y and torsion: its 3×3 stiffness against top-floor motion
+    (bottom held) must be positive definite."""
+    eig = np.linalg.eigvalsh(k6[3:, 3:])
+    if eig[0] <= 1e-9 * eig[-1]:
+        k = 0
+        for idx, floor in enumerate(building.floors):
+            if s < k + floor.repeat:
+                break
+            k += floor.repeat
+        raise InputError(
+            f"the storey below floor {s + 1} has no torsional stiffness (its columns all stand "
+            "at one plan point); add columns elsewhere in plan",
+            file=source,
+            field=f"{field}.floors[{idx}]",
+        )

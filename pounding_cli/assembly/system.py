@@ -1,0 +1,91 @@
+"""All buildings of a model as the plain arrays the solver works on.
+
+Floors of all buildings are numbered one after another (building by building, bottom up);
+floor f owns DOFs 3f, 3f+1, 3f+2 = (u_x, u_y, θ) at its mass centre, global axes.
+Storeys are numbered the same way; storey s joins floor `storey_bottom[s]` (−1: the
+ground) to floor `storey_top[s]`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import LoadedModel
+from .building import BuildingArrays, assemble_building
+
+
+@dataclass(frozen=True)
+class System:
+    """The structural system as arrays (SI units)."""
+
+    buildings: list[BuildingArrays]
+    floor_start: np.ndarray  # (n_buildings + 1,) first global floor of each building
+    mass: np.ndarray  # (n_dof,) diagonal of M
+    dof_a0: np.ndarray  # (n_dof,) Rayleigh a0 of the DOF's building, 1/s
+    storey_k: np.ndarray  # (n_storeys, 6, 6)
+    storey_bottom: np.ndarray  # (n_storeys,) int64, −1 = ground
+    storey_top: np.ndarray  # (n_storeys,) int64
+    storey_a1: np.ndarray  # (n_storeys,) Rayleigh a1 of the storey's building, s
+    column_storey: np.ndarray  # (n_columns,) int64, global storey of each column instance
+    column_arm_bottom: np.ndarray  # (n_columns, 2) m, from the bottom floor's mass centre
+    column_arm_top: np.ndarray  # (n_columns, 2) m, from the top floor's mass centre
+    column_axes: np.ndarray  # (n_columns, 2) cos, sin of the building rotation
+
+    @property
+    def n_dof(self) -> int:
+        return self.mass.size
+
+    @property
+    def omega_max(self) -> float:
+        """Highest natural circular frequency of any building, rad/s."""
+        return max(float(b.modes.omega[-1]) for b in self.buildings)
+
+    def building_dofs(self, b: int) -> slice:
+        """DOF slice of building b."""
+        return slice(3 * int(self.floor_start[b]), 3 * int(self.floor_start[b + 1]))
+
+
+def assemble(loaded: LoadedModel) -> System:
+    """Assemble every building of a validated model."""
+    model = loaded.model
+    buildings = [
+        assemble_building(b, model.materials, f"buildings[{i}]", str(loaded.source))
+        for i, b in enumerate(model.buildings)
+    ]
+    return combine(buildings)
+
+
+def combine(buildings: list[BuildingArrays]) -> System:
+    """Number the floors, storeys and columns of several buildings into global arrays."""
+    counts = [b.n_floors for b in buildings]
+    start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    bottom, top, a1, a0 = [], [], [], []
+    col_storey, arm_b, arm_t, axes = [], [], [], []
+    for b, bld in enumerate(buildings):
+        f0 = int(start[b])
+        for s in range(bld.n_floors):
+            bottom.append(f0 + s - 1 if s > 0 else -1)
+            top.append(f0 + s)
+            a1.append(bld.rayleigh[1])
+        a0.extend([bld.rayleigh[0]] * 3 * bld.n_floors)
+        for c in bld.columns:
+            col_storey.append(f0 + c.storey)
+            arm_b.append(c.arm_bottom)
+            arm_t.append(c.arm_top)
+            axes.append((np.cos(bld.rotation), np.sin(bld.rotation)))
+    return System(
+        buildings=buildings,
+        floor_start=start,
+        mass=np.concatenate([b.mass for b in buildings]),
+        dof_a0=np.asarray(a0, dtype=float),
+        storey_k=np.ascontiguousarray(np.concatenate([b.storey_k for b in buildings])),
+        storey_bottom=np.asarray(bottom, dtype=np.int64),
+        storey_top=np.asarray(top, dtype=np.int64),
+        storey_a1=np.asarray(a1, dtype=float),
+        column_storey=np.asarray(col_storey, dtype=np.int64),
+        column_arm_bottom=np.asarray(arm_b, dtype=float).reshape(-1, 2),
+        column_arm_top=np.asarray(arm_t, dtype=float).reshape(-1, 2),
+        column_axes=np.asarray(axes, dtype=float).reshape(-1, 2),
+    )

@@ -1,0 +1,248 @@
+"""The `pound` command line: parses, calls the Python API, prints. Nothing else.
+
+Exit codes: 0 success; 1 the analysis ran but failed (partial results kept and marked);
+2 bad input or usage. `--json` output goes to stdout; progress and messages to stderr.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Annotated, Any, Iterator
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from . import __version__
+from .errors import PoundError
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Simulate earthquake-induced pounding between adjacent buildings in 3D.",
+)
+out = Console(highlight=False)
+err = Console(stderr=True, highlight=False)
+
+ModelArg = Annotated[Path, typer.Argument(help="Model file (.toml or .json).", show_default=False)]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON document to stdout instead of tables.")]
+
+
+@contextmanager
+def reported() -> Iterator[None]:
+    """Turn pound's errors into a message on stderr and their exit code; never a traceback."""
+    try:
+        yield
+    except PoundError as exc:
+        err.print(str(exc), markup=False, soft_wrap=True)
+        raise typer.Exit(exc.exit_code) from None
+    except KeyboardInterrupt:
+        err.print("interrupted", markup=False)
+        raise typer.Exit(1) from None
+
+
+def _version(show: bool) -> None:
+    if show:
+        out.print(f"pound {__version__}", markup=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def main_options(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
+    ] = False,
+) -> None:
+    """Simulate earthquake-induced pounding between adjacent buildings in 3D.
+
+    Exit codes: 0 success, 1 the analysis failed (partial results kept and marked),
+    2 bad input or usage.
+    """
+
+
+@app.command()
+def validate(model: ModelArg, json_: JsonOpt = False) -> None:
+    """Check a model and print what it resolves to: masses, periods and participating
+    mass, Rayleigh coefficients, the record and the time step."""
+    from .api import describe
+
+    with reported():
+        info = describe(model)
+    if json_:
+        print(json.dumps(info, indent=2))
+        return
+    _print_description(info)
+
+
+@app.command()
+def run(
+    model: ModelArg,
+    output: Annotated[
+        Path | None,
+        typer.Option("-o", "--output", help="HDF5 result file [default: the model's name with .h5, here]."),
+    ] = None,
+    json_: JsonOpt = False,
+    progress: Annotated[
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr [default: if a terminal].")
+    ] = None,
+) -> None:
+    """Run one analysis and write its results (time histories, peaks, energy) to HDF5."""
+    from .api import run_model
+
+    target = output if output is not None else Path(model.name).with_suffix(".h5")
+    show = sys.stderr.isatty() if progress is None else progress
+    with reported():
+        with _progress_bar(show) as bar:
+            result = run_model(model, output=target, progress=bar)
+    summary = run_summary(result)
+    if json_:
+        print(json.dumps(summary, indent=2))
+    else:
+        _print_summary(summary)
+    if not result.complete:
+        err.print(f"{model}: {result.status}; partial results in {target}", markup=False)
+        raise typer.Exit(1)
+
+
+@app.command()
+def schema(
+    out_dir: Annotated[Path, typer.Option("--out", help="Folder to write the schemas into.")] = Path("schemas"),
+    check: Annotated[bool, typer.Option("--check", help="Write nothing; exit 1 if the files differ.")] = False,
+) -> None:
+    """Write the JSON Schemas of the input files (generated from the pydantic models)."""
+    from .schema import schema_files
+
+    stale = []
+    for name, text in schema_files().items():
+        path = out_dir / name
+        if check:
+            if not path.exists() or path.read_text(encoding="utf-8") != text:
+                stale.append(str(path))
+            continue
+        out_dir.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.tmp")
+        tmp.write_text(text, encoding="utf-8")
+        tmp.replace(path)
+        err.print(f"wrote {path}", markup=False)
+    if stale:
+        err.print(f"out of date: {', '.join(stale)}; run `pound schema`", markup=False)
+        raise typer.Exit(1)
+
+
+# --- printing ---------------------------------------------------------------------------
+
+
+@contextmanager
+def _progress_bar(show: bool) -> Iterator[Any]:
+    if not show:
+        yield None
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    with Progress(
+        TextColumn("integrating"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(), console=err, transient=True,
+    ) as bar:  # fmt: skip
+        task = bar.add_task("run", total=1)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+def run_summary(result: Any) -> dict[str, Any]:
+    """The short summary printed after a run (also the --json document)."""
+    d = result.diagnostics
+    buildings = []
+    for name, b in result.buildings.items():
+        isd = b.interstorey_deflection
+        entry: dict[str, Any] = {"name": name}
+        for k, comp in enumerate(("x", "y", "theta")):
+            values = isd[:, :, k]
+            if values.size == 0 or not (values == values).any():
+                continue
+            import numpy as np
+
+            c, s = np.unravel_index(np.nanargmax(values), values.shape)
+            entry[f"peak_interstorey_{comp}"] = {
+                "value": float(values[c, s]),
+                "unit": "rad" if comp == "theta" else "m",
+                "column": b.column_names[c],
+                "storey": int(s) + 1,
+            }
+        buildings.append(entry)
+    return {
+        "status": result.status,
+        "output": str(result.output) if result.output else None,
+        "input_sha256": result.input_sha256,
+        "duration_s": float(result.time[-1]) if result.time.size else 0.0,
+        "dt_s": d.get("dt"),
+        "steps": d.get("steps"),
+        "solver_wall_time_s": d.get("wall_time_s"),
+        "us_per_step": d.get("us_per_step"),
+        "energy_balance_error": result.balance_error_ratio,
+        "buildings": buildings,
+    }
+
+
+def _print_summary(s: dict[str, Any]) -> None:
+    out.print(f"[bold]{s['status']}[/bold]  →  {s['output']}")
+    out.print(
+        f"{s['duration_s']:.2f} s simulated in {s['steps']} steps of {s['dt_s']:.3g} s; "
+        f"solver {s['solver_wall_time_s']:.3f} s ({s['us_per_step']:.2f} µs/step); "
+        f"energy balance error {100 * s['energy_balance_error']:.3g} % of input",
+        markup=False,
+    )
+    table = Table(title="Peak interstorey deflection (building axes)")
+    for col in ("building", "x (mm)", "y (mm)", "θ (mrad)"):
+        table.add_column(col)
+    for b in s["buildings"]:
+        cells = []
+        for comp, scale in (("x", 1e3), ("y", 1e3), ("theta", 1e3)):
+            p = b.get(f"peak_interstorey_{comp}")
+            cells.append(f"{scale * p['value']:.3g} ({p['column']}, storey {p['storey']})" if p else "-")
+        table.add_row(b["name"], *cells)
+    out.print(table)
+
+
+def _print_description(info: dict[str, Any]) -> None:
+    out.print(f"[bold]{info['title'] or info['file']}[/bold]")
+    for b in info["buildings"]:
+        table = Table(title=f"building {b['name']}: {b['storeys']} storeys, {b['height_m']:g} m, "
+                      f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines")  # fmt: skip
+        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
+            table.add_column(col, justify="right")
+        for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):
+            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p))
+        out.print(table)
+        r = b["rayleigh"]
+        out.print(
+            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}"
+            f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
+            markup=False,
+        )
+    e = info["excitation"]
+    out.print(
+        f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
+        f"{e['angle_deg']:g}°, scale {e['scale']:g}; {e['duration_s']:g} s at {e['dt_s']:g} s; "
+        f"PGA X {e['pga_g']['X']:.3f} g, Y {e['pga_g']['Y']:.3f} g",
+        markup=False,
+    )
+    for note in e["notes"]:
+        out.print(f"  note: {note}", markup=False)
+    a = info["analysis"]
+    how = f"auto: {a['dt_auto_fraction']:g} × 2/ω_max" if a["dt_auto"] else "given"
+    out.print(
+        f"analysis: Δt = {a['dt_s']:.4g} s ({how}; stability limit {a['stability_limit_s']:.4g} s), "
+        f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
+        markup=False,
+    )
+
+
+def main() -> None:
+    """Console-script entry point."""
+    app()

@@ -1,0 +1,50 @@
+"""Analysis settings: duration, time step and output interval."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import Field, PlainValidator, WithJsonSchema
+
+from .base import Strict
+
+
+def _dt_or_auto(value: Any) -> float | Literal["auto"]:
+    if value == "auto":
+        return "auto"
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if math.isfinite(value) and 0 < value <= 1.0:
+            return float(value)
+    raise ValueError(f'expected a time step in s (a number in (0, 1]) or "auto", got {value!r}')
+
+
+TimeStep = Annotated[
+    float | Literal["auto"],
+    PlainValidator(_dt_or_auto),
+    WithJsonSchema(
+        {
+            "anyOf": [
+                {"type": "number", "exclusiveMinimum": 0, "maximum": 1.0},
+                {"const": "auto", "type": "string"},
+            ]
+        }
+    ),
+]
+
+
+class Analysis(Strict):
+    """How long and how finely to integrate, and how often to store the state."""
+
+    duration: Annotated[float, Field(gt=0)] | None = None
+    """Length of the analysis, s. Default: the length of the shortest applied record
+    component. After a record ends the ground is at rest (free vibration). Rounded up to a
+    whole number of output intervals."""
+
+    dt: TimeStep = "auto"
+    """Time step, s, or "auto": a fixed fraction of the central difference stability limit
+    2/ω_max, adjusted so that it divides the output interval (see docs/theory.md)."""
+
+    output_interval: Annotated[float, Field(gt=0, le=10.0)] = 0.01
+    """Interval of the stored time histories, s; rounded to a whole number of time steps.
+    Peaks are taken at every step regardless."""

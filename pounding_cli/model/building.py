@@ -1,0 +1,244 @@
+"""Buildings: floors (rigid convex diaphragms), the columns of the storey below each floor,
+and Rayleigh damping. Coordinates in a building are local: metres from the building's own
+origin, along its own x and y axes (see :attr:`Building.origin` and :attr:`Building.rotation`).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import Field, field_validator, model_validator
+
+from .base import Strict
+from .slab import SlabPolygon
+
+PositiveFloat = Annotated[float, Field(gt=0)]
+Section = tuple[PositiveFloat, PositiveFloat]
+Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
+
+
+class Column(Strict):
+    """One vertical column, fixed at both ends (lateral stiffness 12EI/h³ per local axis)."""
+
+    name: Name
+    """Column name, unique within its storey (e.g. "C9"); a name used in several storeys
+    denotes one column line and must keep its plan position."""
+
+    x: float
+    """Plan x of the column axis in building coordinates, m."""
+
+    y: float
+    """Plan y of the column axis in building coordinates, m."""
+
+    section: Section
+    """Rectangular section [b_x, b_y], m: width along the column's local x and y axes."""
+
+    angle: float = 0.0
+    """Rotation of the column's local x axis from the building's x axis, degrees,
+    counter-clockwise."""
+
+    material: Name
+    """Name of the column's material in [materials]."""
+
+
+class ColumnGrid(Strict):
+    """Columns at every crossing of grid lines x × y, named C1, C2, … along y first, then
+    along x, from the corner at the smallest x and y (the paper's numbering: on a 3×3 grid
+    C9 is the corner at the largest x and y)."""
+
+    x: Annotated[list[float], Field(min_length=1, max_length=1000)]
+    """Plan x of the grid lines in building coordinates, m, increasing."""
+
+    y: Annotated[list[float], Field(min_length=1, max_length=1000)]
+    """Plan y of the grid lines in building coordinates, m, increasing."""
+
+    section: Section
+    """Rectangular section [b_x, b_y] of every generated column, m."""
+
+    angle: float = 0.0
+    """Rotation of every generated column's local x axis from the building's x axis,
+    degrees, counter-clockwise."""
+
+    material: Name
+    """Name of the material of the generated columns in [materials]."""
+
+    prefix: Name = "C"
+    """Prefix of the generated names: prefix + running number."""
+
+    sections: dict[Name, Section] = {}
+    """Sections [b_x, b_y] in m that replace `section` for the named generated columns,
+    e.g. {C1 = [1.0, 0.3]}."""
+
+    omit: list[Name] = []
+    """Generated columns to leave out (by name), for grids with gaps."""
+
+    @field_validator("x", "y")
+    @classmethod
+    def _increasing(cls, lines: list[float]) -> list[float]:
+        for a, b in zip(lines, lines[1:]):
+            if not b > a:
+                raise ValueError(f"grid lines must increase strictly, got {a:g} then {b:g} m")
+        return lines
+
+    def generated_names(self) -> list[str]:
+        """Names of all crossings in the paper's order (y first, then x), before `omit`."""
+        return [f"{self.prefix}{i + 1}" for i in range(len(self.x) * len(self.y))]
+
+    @model_validator(mode="after")
+    def _known_names(self) -> "ColumnGrid":
+        names = set(self.generated_names())
+        for field, given in (("sections", self.sections), ("omit", self.omit)):
+            unknown = [n for n in given if n not in names]
+            if unknown:
+                raise ValueError(
+                    f"{field} names {', '.join(unknown)}, which the grid does not generate "
+                    f"(it makes {self.prefix}1 … {self.prefix}{len(names)})"
+                )
+        return self
+
+    def columns(self) -> list[Column]:
+        """The generated columns, in the paper's numbering."""
+        out = []
+        for i, x in enumerate(self.x):
+            for j, y in enumerate(self.y):
+                name = f"{self.prefix}{i * len(self.y) + j + 1}"
+                if name in self.omit:
+                    continue
+                out.append(
+                    Column(
+                        name=name,
+                        x=x,
+                        y=y,
+                        section=self.sections.get(name, self.section),
+                        angle=self.angle,
+                        material=self.material,
+                    )
+                )
+        return out
+
+
+class Floor(Strict):
+    """A floor: its rigid slab (diaphragm) and the storey of columns beneath it."""
+
+    height: PositiveFloat
+    """Height of the storey below this floor (column length), m."""
+
+    repeat: Annotated[int, Field(ge=1, le=500)] = 1
+    """Number of identical storeys this entry stands for, stacked upwards."""
+
+    slab: SlabPolygon
+    """Slab outline: a convex polygon [[x, y], ...] in building coordinates, m, either
+    orientation."""
+
+    mass: PositiveFloat | None = None
+    """Lumped floor mass, kg. Give this or mass_per_area."""
+
+    mass_per_area: PositiveFloat | None = None
+    """Floor mass per slab area, kg/m² (the paper uses 1000). Give this or mass."""
+
+    eccentricity: tuple[float, float] = (0.0, 0.0)
+    """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes."""
+
+    rotational_inertia: PositiveFloat | None = None
+    """Mass moment of inertia J about the vertical axis through the mass centre, kg·m².
+    Default: that of a uniform slab of the floor's mass, m·(I_x + I_y)/A about the slab
+    centroid, whatever the eccentricity (the accidental-eccentricity convention)."""
+
+    columns: list[Column] = []
+    """Columns of the storey below this floor, given one by one."""
+
+    column_grid: ColumnGrid | None = None
+    """Columns of the storey below this floor, generated on a grid (adds to `columns`)."""
+
+    @model_validator(mode="after")
+    def _mass_and_columns(self) -> "Floor":
+        if (self.mass is None) == (self.mass_per_area is None):
+            raise ValueError("give exactly one of 'mass' (kg) or 'mass_per_area' (kg/m²)")
+        if not self.columns and self.column_grid is None:
+            raise ValueError(
+                "the storey below this floor has no columns: give 'columns' or 'column_grid'"
+            )
+        names = [c.name for c in self.all_columns()]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"column names repeat within the storey: {', '.join(dup)}")
+        self._columns_under_slab()
+        return self
+
+    def _columns_under_slab(self) -> None:
+        import shapely
+
+        outline = shapely.Polygon(self.slab)
+        tolerance = 1e-6 * max(1.0, outline.length)
+        for c in self.all_columns():
+            if outline.distance(shapely.Point(c.x, c.y)) > tolerance:
+                raise ValueError(
+                    f"column {c.name} at ({c.x:g}, {c.y:g}) m is outside the slab it carries"
+                )
+
+    def all_columns(self) -> list[Column]:
+        """Grid-generated columns followed by the ones given one by one."""
+        grid = self.column_grid.columns() if self.column_grid is not None else []
+        return grid + list(self.columns)
+
+
+class RayleighDamping(Strict):
+    """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes."""
+
+    ratios: tuple[Annotated[float, Field(ge=0, lt=1)], Annotated[float, Field(ge=0, lt=1)]] = (
+        0.05,
+        0.05,
+    )
+    """Damping ratios [ζ_i, ζ_j], fraction of critical (0.05 = 5 %)."""
+
+    modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = (1, 3)
+    """Mode numbers [i, j] (1 = longest period) where the ratios hold. Default [1, 3]:
+    a symmetric building's modes 1 and 2 share one frequency and cannot anchor the fit."""
+
+    @field_validator("modes")
+    @classmethod
+    def _distinct(cls, modes: tuple[int, int]) -> tuple[int, int]:
+        if modes[0] == modes[1]:
+            raise ValueError(f"the two modes must differ, got [{modes[0]}, {modes[1]}]")
+        return modes
+
+
+class Building(Strict):
+    """A shear-type building: floors listed from the bottom up, columns fixed at the ground."""
+
+    name: Name
+    """Building name, unique in the model; used as the HDF5 group name."""
+
+    origin: tuple[float, float] = (0.0, 0.0)
+    """Global plan position [X, Y] of the building's local origin, m."""
+
+    rotation: float = 0.0
+    """Rotation of the building's local x axis from the global X axis, degrees,
+    counter-clockwise."""
+
+    floors: Annotated[list[Floor], Field(min_length=1)]
+    """Floors from the lowest up; each carries the storey of columns beneath it."""
+
+    damping: RayleighDamping = RayleighDamping()
+    """Rayleigh damping of this building."""
+
+    @model_validator(mode="after")
+    def _column_lines_keep_position(self) -> "Building":
+        seen: dict[str, tuple[float, float, int]] = {}
+        for k, floor in enumerate(self.floors):
+            for c in floor.all_columns():
+                if c.name in seen:
+                    x, y, k0 = seen[c.name]
+                    if abs(x - c.x) > 1e-9 or abs(y - c.y) > 1e-9:
+                        raise ValueError(
+                            f"column {c.name} is at ({c.x:g}, {c.y:g}) m below floors[{k}] but "
+                            f"at ({x:g}, {y:g}) m below floors[{k0}]; a column name denotes "
+                            "one column line: give the moved column another name"
+                        )
+                else:
+                    seen[c.name] = (c.x, c.y, k)
+        return self
+
+    def storeys(self) -> list[Floor]:
+        """The floors with `repeat` expanded: one entry per storey, bottom up."""
+        return [floor for floor in self.floors for _ in range(floor.repeat)]

@@ -1,0 +1,200 @@
+"""Reading model files (TOML or JSON) into a validated :class:`PoundModel`.
+
+Every problem becomes an :class:`~pounding_cli.errors.InputError` whose text reads
+``file: path.to.field: what was expected``, one line per problem.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import tomllib
+import types
+import typing
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from ..errors import InputError
+from .root import PoundModel
+
+MAX_MODEL_BYTES = 50_000_000
+
+
+@dataclass(frozen=True)
+class LoadedModel:
+    """A validated model and the file it came from (record paths are relative to it)."""
+
+    model: PoundModel
+    source: Path
+
+    def resolve(self, relative: str) -> Path:
+        """A path named in the model, resolved against the model file's folder."""
+        return (self.source.parent / relative).resolve()
+
+
+def read_document(path: str | Path) -> dict[str, Any]:
+    """Parse a TOML or JSON file into a dict, with errors that name the file and line."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError("no such file", file=path) from None
+    except IsADirectoryError:
+        raise InputError("is a directory, expected a .toml or .json model file", file=path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror})", file=path) from None
+    if len(raw) > MAX_MODEL_BYTES:
+        raise InputError(f"file is {len(raw)} bytes; a model file is limited to {MAX_MODEL_BYTES}", file=path)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8", file=path) from None
+    suffix = path.suffix.lower()
+    if suffix == ".json":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise InputError(f"line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}", file=path) from None
+        except RecursionError:
+            raise InputError("invalid JSON: nested too deeply", file=path) from None
+    elif suffix == ".toml":
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"invalid TOML: {exc}", file=path) from None
+        except RecursionError:
+            raise InputError("invalid TOML: nested too deeply", file=path) from None
+    else:
+        raise InputError(f"unknown file type {path.suffix!r}: expected a .toml or .json file", file=path)
+    if not isinstance(data, dict):
+        raise InputError(f"expected a table of settings at the top, got a {type(data).__name__}", file=path)
+    return data
+
+
+def load_model(path: str | Path) -> LoadedModel:
+    """Read and validate a model file. Raises InputError naming the file and field."""
+    path = Path(path)
+    return validate_model(read_document(path), path)
+
+
+def validate_model(data: dict[str, Any], source: str | Path) -> LoadedModel:
+    """Validate an already parsed model document that came from `source`."""
+    source = Path(source)
+    try:
+        model = PoundModel.model_validate(data)
+    except ValidationError as exc:
+        raise InputError("\n".join(_describe(source, e) for e in exc.errors())) from None
+    except RecursionError:
+        raise InputError("nested too deeply to be a model", file=source) from None
+    problems = [
+        f"{source}: {field}: unknown material {name!r}; defined: {', '.join(model.materials)}"
+        for field, name in model.unknown_materials()
+    ]
+    if problems:
+        raise InputError("\n".join(problems))
+    return LoadedModel(model=model, source=source.resolve())
+
+
+# --- messages -------------------------------------------------------------------------
+
+
+def format_loc(loc: tuple[Any, ...]) -> str:
+    """('buildings', 0, 'floors', 2, 'mass') -> 'buildings[0].floors[2].mass'."""
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out or "(top level)"
+
+
+def _describe(source: Path, error: dict[str, Any]) -> str:
+    loc = tuple(error["loc"])
+    kind = error["type"]
+    msg = error["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
+    if kind == "extra_forbidden":
+        owner = _model_at(PoundModel, loc[:-1])
+        key = str(loc[-1])
+        text = f"unknown key {key!r}"
+        if owner is not None:
+            fields = list(owner.model_fields)
+            close = difflib.get_close_matches(key, fields, n=1, cutoff=0.6)
+            text += f"; did you mean {close[0]!r}?" if close else f"; valid keys: {', '.join(fields)}"
+        return f"{source}: {format_loc(loc)}: {text}"
+    if kind == "missing":
+        text = "required field missing"
+    else:
+        text = msg
+        value = error.get("input")
+        if not isinstance(value, (dict, list)) or kind.startswith(("too_", "list_")):
+            shown = repr(value)
+            if isinstance(value, (dict, list)):
+                shown = f"{type(value).__name__} of {len(value)} items"
+            text += f"; got {shown[:80]}"
+    hint = _description(loc)
+    if hint:
+        text += f" ({hint})"
+    return f"{source}: {format_loc(loc)}: {text}"
+
+
+def _description(loc: tuple[Any, ...]) -> str:
+    """First sentence of the description of the field at (or holding) `loc`: its unit."""
+    names = [p for p in loc if isinstance(p, str)]
+    for cut in range(len(loc), 0, -1):
+        if not isinstance(loc[cut - 1], str):
+            continue
+        owner = _model_at(PoundModel, loc[: cut - 1])
+        if owner is not None and loc[cut - 1] in owner.model_fields:
+            desc = owner.model_fields[loc[cut - 1]].description or ""
+            first = desc.split(". ")[0].rstrip(".")
+            return " ".join(first.split())
+        if names:
+            break
+    return ""
+
+
+def _model_at(cls: type[BaseModel], loc: tuple[Any, ...]) -> type[BaseModel] | None:
+    """The pydantic model class found by following `loc` from `cls`, or None."""
+    current: Any = cls
+    for part in loc:
+        current = _unwrap(current)
+        if isinstance(part, str) and isinstance(current, type) and issubclass(current, BaseModel):
+            field = current.model_fields.get(part)
+            if field is None:
+                return None
+            current = field.annotation
+        elif isinstance(part, (int, str)):
+            current = _element(current)
+            if current is None:
+                return None
+    current = _unwrap(current)
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def _unwrap(tp: Any) -> Any:
+    """Strip Annotated and Optional: Annotated[X | None, ...] -> X."""
+    while True:
+        origin = typing.get_origin(tp)
+        if origin is typing.Annotated:
+            tp = typing.get_args(tp)[0]
+        elif origin in (typing.Union, types.UnionType):
+            args = [a for a in typing.get_args(tp) if a is not type(None)]
+            models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
+            tp = models[0] if models else args[0]
+        else:
+            return tp
+
+
+def _element(tp: Any) -> Any:
+    """The element type of list[X], tuple[X, ...] or dict[K, X]."""
+    args = typing.get_args(_unwrap(tp))
+    origin = typing.get_origin(_unwrap(tp))
+    if origin in (list, tuple) and args:
+        return args[0]
+    if origin is dict and len(args) == 2:
+        return args[1]
+    return None

@@ -1,0 +1,78 @@
+"""Validation of slab polygons: convex, simple, non-degenerate, returned counter-clockwise.
+
+shapely is the geometry oracle here; the time loop never calls it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+from pydantic import AfterValidator, Field
+
+Point = tuple[float, float]
+
+
+def _fmt(p: Point) -> str:
+    return f"({p[0]:g}, {p[1]:g})"
+
+
+def signed_area(vertices: list[Point]) -> float:
+    """Shoelace signed area, m²: positive when the vertices run counter-clockwise."""
+    n = len(vertices)
+    return 0.5 * sum(
+        vertices[i][0] * vertices[(i + 1) % n][1] - vertices[(i + 1) % n][0] * vertices[i][1]
+        for i in range(n)
+    )
+
+
+def convex_polygon(vertices: list[Point]) -> list[Point]:
+    """Check a slab outline and return it counter-clockwise.
+
+    Accepts either orientation and collinear vertices; rejects repeated vertices, zero area,
+    self-intersection and reflex corners, each with a message that says where.
+    """
+    import shapely
+
+    pts = [(float(x), float(y)) for x, y in vertices]
+    if len(pts) >= 4 and pts[0] == pts[-1]:
+        pts = pts[:-1]  # a closing vertex repeated, as GIS files write it
+    if len(pts) < 3:
+        raise ValueError(f"a slab polygon needs at least 3 vertices [x, y] in m, got {len(pts)}")
+    size = max(max(abs(x), abs(y)) for x, y in pts) or 1.0
+    for i, p in enumerate(pts):
+        q = pts[(i + 1) % len(pts)]
+        if math.dist(p, q) <= 1e-9 * size:
+            raise ValueError(
+                f"vertices {i + 1} and {(i + 1) % len(pts) + 1} coincide at {_fmt(p)}; "
+                "give each corner once"
+            )
+    area = signed_area(pts)
+    if abs(area) <= 1e-12 * size * size:
+        raise ValueError("the slab polygon has zero area (all vertices on one line)")
+    if area < 0:
+        pts.reverse()
+    polygon = shapely.Polygon(pts)
+    if not polygon.is_valid:
+        raise ValueError(
+            f"the slab polygon is not simple ({shapely.is_valid_reason(polygon)}); "
+            "list the corners in order around the slab"
+        )
+    n = len(pts)
+    for i in range(n):
+        a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]
+        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+        if cross < -1e-12 * size * size:
+            raise ValueError(
+                f"the slab polygon is not convex: the corner at {_fmt(b)} points inwards; "
+                "pound models each floor diaphragm as one convex polygon"
+            )
+    return pts
+
+
+SlabPolygon = Annotated[
+    list[tuple[float, float]],
+    Field(min_length=3, max_length=10_000),
+    AfterValidator(convex_polygon),
+]
+"""A convex polygon [[x, y], ...] in m, either orientation; stored counter-clockwise."""

@@ -1,0 +1,294 @@
+"""Read one ground-acceleration time history from a file into an :class:`Accelerogram`.
+
+Files obspy reads (MiniSEED, SAC, ...) go through ``obspy.read``; obspy is
+imported only when a file is read, because importing it is slow. Other files
+are tried as plain text (:mod:`pounding_cli.records.plaintext`). Every problem
+with a file or with the arguments raises :class:`~pounding_cli.errors.RecordReadError`
+naming the path; nothing is printed.
+
+Trace selection in a multi-trace file (``trace``):
+
+- ``None``: the file must hold a single trace id;
+- ``"NET.STA.LOC.CHA"`` (has a dot): that SEED id exactly;
+- ``"0"``, ``"1"``, ... (all digits): the trace at that position in the file;
+- anything else: a channel code such as ``"HNE"``, matched against ``stats.channel``.
+
+A plain-text record is a single trace: ``trace`` must be None or ``"0"``.
+
+Pickled obspy streams are refused: unpickling a file can run arbitrary code.
+
+Traces sharing the selected id (a channel split into segments) are merged when
+they join up exactly (no gap, identical overlap); a record with a gap or with
+conflicting overlap is refused rather than filled with invented data.
+"""
+
+from __future__ import annotations
+
+import glob
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from pounding_cli.errors import RecordReadError
+from pounding_cli.records.plaintext import REL_TOL, NotPlainText, decode_text, parse_plaintext
+
+if TYPE_CHECKING:
+    from obspy import Stream, Trace
+
+UNIT_FACTORS: dict[str, float] = {"g": 9.80665, "m/s2": 1.0, "cm/s2": 0.01, "gal": 0.01}
+"""Factor converting each accepted acceleration unit to m/s² (standard gravity for ``g``)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Accelerogram:
+    """A uniformly sampled ground-acceleration time history.
+
+    ``acceleration[i]`` is the ground acceleration (m/s²) at time ``i * dt``
+    after the first sample; ``dt`` is the sample interval (s). ``source`` says
+    where it came from; ``start_time`` is the ISO UTC time of the first sample
+    when the file records it. The array is stored as a read-only C-contiguous
+    float64 copy. Compared by identity (``eq=False``: arrays have no single truth value).
+    """
+
+    dt: float
+    acceleration: np.ndarray
+    source: str
+    start_time: str | None = None
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.dt) and self.dt > 0.0):
+            raise ValueError(f"dt must be a finite positive number of seconds, got {self.dt!r}")
+        values = np.array(self.acceleration, dtype=np.float64, order="C")
+        if values.ndim != 1:
+            raise ValueError(f"acceleration must be one-dimensional, got shape {values.shape}")
+        values.setflags(write=False)
+        object.__setattr__(self, "dt", float(self.dt))
+        object.__setattr__(self, "acceleration", values)
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last sample, s."""
+        return (self.acceleration.size - 1) * self.dt
+
+
+def read_accelerogram(
+    path: str | Path,
+    *,
+    trace: str | None = None,
+    units: str = "m/s2",
+    format: str = "auto",
+    dt: float | None = None,
+) -> Accelerogram:
+    """Read a ground-acceleration record and return it in m/s².
+
+    ``units`` is the unit of the values in the file (a key of :data:`UNIT_FACTORS`).
+    ``format`` is ``"auto"`` (obspy, then plain text), ``"text"`` (plain text
+    only) or an obspy format name such as ``"MSEED"`` or ``"SAC"``. ``dt`` (s) is
+    required for one-column plain text; elsewhere it is optional and must agree
+    with the file's own sample interval to within 1e-6 relative.
+    """
+    factor = _unit_factor(units)
+    _check_dt_argument(dt)
+    path = Path(path)
+    _check_file(path)
+    if format.lower() == "text":
+        step, values = _read_text(_decode(path), path, trace, dt)
+        source, start_time = str(path), None
+    else:
+        step, values, source, start_time = _read_obspy_or_text(path, trace, format, dt)
+    _check_samples(step, values, path)
+    return Accelerogram(step, values * factor, source, start_time)
+
+
+def _unit_factor(units: str) -> float:
+    """Return the factor from ``units`` to m/s², or raise listing the accepted units."""
+    try:
+        return UNIT_FACTORS[units.strip().lower()]
+    except (KeyError, AttributeError):
+        accepted = ", ".join(UNIT_FACTORS)
+        raise RecordReadError(f"unknown units {units!r}; accepted: {accepted}") from None
+
+
+def _check_dt_argument(dt: float | None) -> None:
+    """Raise unless ``dt`` is None or a finite positive number of seconds."""
+    if dt is None:
+        return
+    try:
+        ok = math.isfinite(dt) and dt > 0.0
+    except TypeError:
+        ok = False
+    if not ok:
+        raise RecordReadError(f"dt must be a finite positive number of seconds, got {dt!r}")
+
+
+def _check_file(path: Path) -> None:
+    """Raise unless ``path`` is an existing, non-empty regular file."""
+    try:
+        if not path.exists():
+            raise RecordReadError(f"{path}: no such file")
+        if path.is_dir():
+            raise RecordReadError(f"{path}: is a directory, not a record file")
+        if path.stat().st_size == 0:
+            raise RecordReadError(f"{path}: empty file")
+    except OSError as err:
+        raise RecordReadError(f"{path}: cannot access the file ({err.strerror or err})") from err
+
+
+def _decode(path: Path) -> str:
+    """Read the file as text, wrapping operating-system errors."""
+    try:
+        return decode_text(path)
+    except OSError as err:
+        raise RecordReadError(f"{path}: cannot read the file ({err.strerror or err})") from err
+
+
+def _read_obspy_or_text(
+    path: Path, trace: str | None, format: str, dt: float | None
+) -> tuple[float, np.ndarray, str, str | None]:
+    """Read with obspy; with ``format='auto'`` fall back to plain text if obspy does not know it."""
+    stream = _obspy_read(path, format)
+    if stream is None:
+        try:
+            text = _decode(path)
+        except NotPlainText as err:
+            raise RecordReadError(
+                f"{path}: neither a format obspy reads nor plain text ({err.reason})"
+            ) from err
+        step, values = _read_text(text, path, trace, dt)
+        return step, values, str(path), None
+    selected = _select_trace(stream, trace, path)
+    step = float(selected.stats.delta)
+    _check_dt_agrees(dt, step, path)
+    try:
+        values = np.asarray(selected.data, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise RecordReadError(f"{path}: {selected.id} does not hold real numbers ({err})") from err
+    return step, values, f"{path} [{selected.id}]", str(selected.stats.starttime)
+
+
+def _read_text(
+    text: str, path: Path, trace: str | None, dt: float | None
+) -> tuple[float, np.ndarray]:
+    """Parse a plain-text record, which holds a single trace (``trace`` None or ``"0"``)."""
+    if trace is not None and str(trace).strip() != "0":
+        raise RecordReadError(
+            f"{path}: plain text holds a single trace; 'trace' = {trace!r} does not apply"
+        )
+    return parse_plaintext(text, str(path), dt)
+
+
+def _obspy_read(path: Path, format: str) -> Stream | None:
+    """Return ``obspy.read(path)``; None if ``format='auto'`` and obspy does not know the format."""
+    import obspy  # slow import: only when a file is read
+
+    _refuse_pickle(path, format)
+    name = glob.escape(str(path))  # obspy.read expands wildcards; the path is literal
+    auto = format.lower() == "auto"
+    options = {} if auto else {"format": format}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            stream = obspy.read(name, **options)
+        except TypeError as err:
+            if auto and "unknown format" in str(err).lower():
+                return None
+            raise RecordReadError(f"{path}: obspy cannot read it as {format!r} ({err})") from err
+        except Exception as err:  # obspy raises many exception types for corrupt files
+            reason = "; ".join([f"{type(err).__name__}: {err}"] + [str(w.message) for w in caught])
+            raise RecordReadError(f"{path}: obspy failed to read it ({reason})") from err
+    for caught_warning in caught:  # a successful read keeps obspy's warnings
+        warnings.warn(caught_warning.message, stacklevel=3)
+    return stream
+
+
+def _refuse_pickle(path: Path, format: str) -> None:
+    """Refuse pickled obspy streams: unpickling a file can run arbitrary code.
+
+    obspy's format detection unpickles any file whose first 100 bytes name
+    ``obspy.core.stream``, so such files are stopped before ``obspy.read``.
+    """
+    with path.open("rb") as handle:
+        looks_pickled = b"obspy.core.stream" in handle.read(100)
+    if format.upper() == "PICKLE" or looks_pickled:
+        raise RecordReadError(
+            f"{path}: pickled obspy streams are not read (unpickling a file can run "
+            "arbitrary code); save the record as MiniSEED or SAC instead"
+        )
+
+
+def _select_trace(stream: Stream, trace: str | None, path: Path) -> Trace:
+    """Return the one trace chosen by ``trace`` (see the module docstring), segments merged."""
+    ids = list(dict.fromkeys(tr.id for tr in stream))
+    if not ids:
+        raise RecordReadError(f"{path}: holds no traces")
+    if trace is None:
+        if len(ids) > 1:
+            raise RecordReadError(
+                f"{path}: holds {len(ids)} traces ({', '.join(ids)}); choose one with 'trace'"
+            )
+        chosen = ids[0]
+    else:
+        chosen = _match_trace_id(stream, ids, str(trace).strip(), path)
+    return _merge_segments(stream.select(id=chosen), chosen, path)
+
+
+def _match_trace_id(stream: Stream, ids: list[str], trace: str, path: Path) -> str:
+    """Return the trace id that ``trace`` names: a SEED id, an index or a channel code."""
+    if "." in trace:
+        matches = [trace] if trace in ids else []
+    elif trace.isdigit():
+        index = int(trace)
+        matches = [stream[index].id] if index < len(stream) else []
+    else:
+        matches = list(dict.fromkeys(tr.id for tr in stream if tr.stats.channel == trace))
+    if len(matches) == 1:
+        return matches[0]
+    if matches:
+        raise RecordReadError(
+            f"{path}: channel {trace!r} is ambiguous: {', '.join(matches)}; give the full SEED id"
+        )
+    raise RecordReadError(
+        f"{path}: no trace matches {trace!r}; available: {', '.join(ids)} "
+        f"(give a SEED id NET.STA.LOC.CHA, a channel code or an index 0..{len(stream) - 1})"
+    )
+
+
+def _merge_segments(segments: Stream, trace_id: str, path: Path) -> Trace:
+    """Join the segments of one trace id; refuse gaps or conflicting overlaps."""
+    if len(segments) == 1:
+        return segments[0]
+    try:
+        merged = segments.copy().merge(method=0)
+    except Exception as err:  # e.g. differing sampling rates
+        raise RecordReadError(f"{path}: cannot merge the segments of {trace_id} ({err})") from err
+    if len(merged) != 1 or np.ma.is_masked(merged[0].data):
+        raise RecordReadError(
+            f"{path}: {trace_id} is split into {len(segments)} segments with gaps or "
+            "conflicting overlaps; fill or cut the gaps before using it as a record"
+        )
+    merged[0].data = np.ma.getdata(merged[0].data)
+    return merged[0]
+
+
+def _check_dt_agrees(dt: float | None, step: float, path: Path) -> None:
+    """Raise if a given ``dt`` disagrees with the file's own sample interval."""
+    if dt is not None and math.isfinite(step) and abs(dt - step) > REL_TOL * abs(step):
+        raise RecordReadError(
+            f"{path}: given dt = {dt:.9g} s disagrees with the file's sample interval {step:.9g} s"
+        )
+
+
+def _check_samples(dt: float, values: np.ndarray, path: Path) -> None:
+    """Raise unless there are at least two finite samples and dt is finite and positive."""
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise RecordReadError(f"{path}: sample interval dt = {dt!r} s is not finite and positive")
+    if values.size < 2:
+        count = "zero samples" if values.size == 0 else "only one sample"
+        raise RecordReadError(f"{path}: {count}; a record needs at least two")
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise RecordReadError(f"{path}: non-finite value at sample index {int(bad[0])}")

@@ -1,0 +1,70 @@
+"""From the solver's flat arrays to per-building results."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..assembly import BuildingArrays, System
+from ..solver import Response
+from .result import BuildingResult, RunResult
+
+
+def building_result(system: System, b: int, response: Response, column_offset: int) -> BuildingResult:
+    """Cut building b's part out of a response; its column instances start at column_offset."""
+    bld: BuildingArrays = system.buildings[b]
+    dofs = system.building_dofs(b)
+    n = bld.n_floors
+    nt = response.time.size
+    floors0 = int(system.floor_start[b])
+    peaks = np.full((len(bld.column_lines), n, 3), np.nan)
+    for k, inst in enumerate(bld.columns):
+        peaks[inst.line, inst.storey, :2] = response.peak_column[column_offset + k]
+        peaks[inst.line, inst.storey, 2] = response.peak_storey_rotation[floors0 + inst.storey]
+    lines = bld.column_lines
+    return BuildingResult(
+        name=bld.name,
+        displacement=response.displacement[:, dofs].reshape(nt, n, 3),
+        velocity=response.velocity[:, dofs].reshape(nt, n, 3),
+        acceleration=response.acceleration[:, dofs].reshape(nt, n, 3),
+        column_names=[c.name for c in lines],
+        column_local=np.array([c.local for c in lines], dtype=float).reshape(-1, 2),
+        column_plan=np.array([c.plan for c in lines], dtype=float).reshape(-1, 2),
+        column_section=np.array([c.section for c in lines], dtype=float).reshape(-1, 2),
+        column_angle=np.array([c.angle for c in lines], dtype=float),
+        interstorey_deflection=peaks,
+        peak_displacement=response.peak_displacement[dofs].reshape(n, 3),
+        peak_acceleration=response.peak_acceleration[dofs].reshape(n, 3),
+        elevation=bld.elevation.copy(),
+        floor_mass=bld.mass.reshape(n, 3)[:, 1:].copy(),
+        mass_centre=bld.mass_centre.copy(),
+        periods=bld.modes.periods.copy(),
+        participation=bld.modes.participation.copy(),
+        rayleigh=(float(bld.rayleigh[0]), float(bld.rayleigh[1])),
+    )
+
+
+def collect(
+    system: System,
+    response: Response,
+    model_json: str,
+    input_sha256: str,
+    diagnostics: dict[str, Any],
+) -> RunResult:
+    """Assemble a RunResult from the solver's response."""
+    buildings = {}
+    offset = 0
+    for b, bld in enumerate(system.buildings):
+        buildings[bld.name] = building_result(system, b, response, offset)
+        offset += len(bld.columns)
+    return RunResult(
+        time=response.time,
+        ground_acceleration=response.ground,
+        energy=response.energy,
+        buildings=buildings,
+        status=response.status,
+        model_json=model_json,
+        input_sha256=input_sha256,
+        diagnostics=diagnostics,
+    )

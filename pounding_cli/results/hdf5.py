@@ -1,0 +1,195 @@
+"""Writing and reading the HDF5 result file (the layout is a contract: docs/hdf5.md).
+
+Files are written beside their final name and renamed into place only when complete, so a
+file with the final name is never half-written.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from .result import ENERGY_NAMES, BuildingResult, RunResult
+
+EVENT_DTYPE = np.dtype(
+    [
+        ("body_a", h5py.string_dtype()),
+        ("body_b", h5py.string_dtype()),
+        ("level", np.int64),
+        ("t_start", np.float64),
+        ("t_end", np.float64),
+        ("peak_normal_force", np.float64),
+        ("normal_impulse", np.float64),
+        ("peak_area", np.float64),
+        ("peak_depth", np.float64),
+        ("x", np.float64),
+        ("y", np.float64),
+        ("slid", np.bool_),
+    ]
+)
+EVENT_UNITS = "-, -, -, s, s, N, N·s, m², m, m, m, -"
+
+COLUMN_DTYPE = np.dtype(
+    [
+        ("name", h5py.string_dtype()),
+        ("x", np.float64),
+        ("y", np.float64),
+        ("X", np.float64),
+        ("Y", np.float64),
+        ("section", np.float64, (2,)),
+        ("angle", np.float64),
+    ]
+)
+
+FLOOR_DTYPE = np.dtype(
+    [
+        ("level", np.int64),
+        ("elevation", np.float64),
+        ("mass", np.float64),
+        ("rotational_inertia", np.float64),
+        ("X", np.float64),
+        ("Y", np.float64),
+    ]
+)
+
+
+def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, **attrs: Any) -> h5py.Dataset:
+    ds = group.create_dataset(name, data=data, track_times=False)
+    ds.attrs["units"] = units
+    for key, value in attrs.items():
+        ds.attrs[key] = value
+    return ds
+
+
+def write_hdf5(result: RunResult, path: str | Path) -> Path:
+    """Write a run's results to `path` atomically; returns the path."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with h5py.File(tmp, "w", track_order=True) as f:
+            _write(f, result)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    result.output = path
+    return path
+
+
+def _write(f: h5py.File, r: RunResult) -> None:
+    from .. import __version__
+
+    f.attrs["pound_version"] = __version__
+    f.attrs["input_sha256"] = r.input_sha256
+    f.attrs["model"] = r.model_json
+    f.attrs["units"] = "SI"
+    f.attrs["status"] = r.status
+    _dataset(f, "time", r.time, "s")
+    ground = f.create_group("ground")
+    _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", columns="X, Y", axes="global")
+    buildings = f.create_group("buildings", track_order=True)
+    for name, b in r.buildings.items():
+        _write_building(buildings.create_group(name), b)
+    impacts = f.create_group("impacts")
+    events = impacts.create_dataset("events", shape=(0,), dtype=EVENT_DTYPE, maxshape=(None,), track_times=False)
+    events.attrs["units"] = EVENT_UNITS
+    _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
+    diag = f.create_group("diagnostics")
+    for key, value in r.diagnostics.items():
+        diag.attrs[key] = value
+
+
+def _write_building(g: h5py.Group, b: BuildingResult) -> None:
+    common = dict(components="u_x, u_y, theta_z", axes="global", point="mass centre")
+    _dataset(g, "displacement", b.displacement, "m, m, rad", reference="relative to the ground", **common)
+    _dataset(g, "velocity", b.velocity, "m/s, m/s, rad/s", reference="relative to the ground", **common)
+    _dataset(g, "acceleration", b.acceleration, "m/s2, m/s2, rad/s2", reference="absolute", **common)
+    cols = np.empty(len(b.column_names), dtype=COLUMN_DTYPE)
+    cols["name"] = b.column_names
+    cols["x"], cols["y"] = b.column_local.T
+    cols["X"], cols["Y"] = b.column_plan.T
+    cols["section"] = b.column_section
+    cols["angle"] = b.column_angle
+    ds = g.create_dataset("columns", data=cols, track_times=False)
+    ds.attrs["units"] = "-, m, m, m, m, m, deg"
+    ds.attrs["description"] = "x, y: building coordinates; X, Y: global; section [b_x, b_y]"
+    floors = np.empty(b.elevation.size, dtype=FLOOR_DTYPE)
+    floors["level"] = np.arange(1, b.elevation.size + 1)
+    floors["elevation"] = b.elevation
+    floors["mass"], floors["rotational_inertia"] = b.floor_mass.T
+    floors["X"], floors["Y"] = b.mass_centre.T
+    ds = g.create_dataset("floors", data=floors, track_times=False)
+    ds.attrs["units"] = "-, m, kg, kg*m2, m, m"
+    peaks = g.create_group("peaks")
+    _dataset(
+        peaks, "interstorey_deflection", b.interstorey_deflection, "m, m, rad",
+        axes="building", description="peak |Δu_x|, |Δu_y|, |Δθ| per column and storey; NaN where absent",
+    )  # fmt: skip
+    _dataset(peaks, "displacement", b.peak_displacement, "m, m, rad", axes="global")
+    _dataset(peaks, "acceleration", b.peak_acceleration, "m/s2, m/s2, rad/s2", axes="global", reference="absolute")
+    modes = g.create_group("modes")
+    _dataset(modes, "period", b.periods, "s")
+    _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
+    modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
+
+
+def read_hdf5(path: str | Path) -> RunResult:
+    """Read a result file written by :func:`write_hdf5`."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        buildings = {name: _read_building(g) for name, g in f["buildings"].items()}
+        return RunResult(
+            time=f["time"][()],
+            ground_acceleration=f["ground/acceleration"][()],
+            energy=f["energy"][()],
+            buildings=buildings,
+            status=str(f.attrs["status"]),
+            model_json=str(f.attrs["model"]),
+            input_sha256=str(f.attrs["input_sha256"]),
+            diagnostics={k: _plain(v) for k, v in f["diagnostics"].attrs.items()},
+            output=path,
+        )
+
+
+def _read_building(g: h5py.Group) -> BuildingResult:
+    cols = g["columns"][()]
+    floors = g["floors"][()]
+    return BuildingResult(
+        name=g.name.rsplit("/", 1)[-1],
+        displacement=g["displacement"][()],
+        velocity=g["velocity"][()],
+        acceleration=g["acceleration"][()],
+        column_names=[n.decode() if isinstance(n, bytes) else str(n) for n in cols["name"]],
+        column_local=np.column_stack([cols["x"], cols["y"]]),
+        column_plan=np.column_stack([cols["X"], cols["Y"]]),
+        column_section=cols["section"],
+        column_angle=cols["angle"],
+        interstorey_deflection=g["peaks/interstorey_deflection"][()],
+        peak_displacement=g["peaks/displacement"][()],
+        peak_acceleration=g["peaks/acceleration"][()],
+        elevation=floors["elevation"],
+        floor_mass=np.column_stack([floors["mass"], floors["rotational_inertia"]]),
+        mass_centre=np.column_stack([floors["X"], floors["Y"]]),
+        periods=g["modes/period"][()],
+        participation=g["modes/participating_mass_ratio"][()],
+        rayleigh=(float(g["modes"].attrs["rayleigh_a0"]), float(g["modes"].attrs["rayleigh_a1"])),
+    )
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, bytes):
+        return value.decode()
+    return value
+
+
+def model_of(path: str | Path) -> dict[str, Any]:
+    """The resolved model stored in a result file, as a dict."""
+    with h5py.File(path, "r") as f:
+        return json.loads(f.attrs["model"])

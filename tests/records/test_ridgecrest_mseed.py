@@ -1,0 +1,80 @@
+"""The shipped Ridgecrest CI.CCC MiniSEED record: contents, and provenance from its script."""
+
+from __future__ import annotations
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+import pytest
+
+from pounding_cli.records import UNIT_FACTORS, read_accelerogram
+
+REPO = Path(__file__).resolve().parents[2]
+SHIPPED = REPO / "inputs" / "records" / "ridgecrest2019_ccc.mseed"
+SCRIPT = REPO / "inputs" / "records" / "make_ridgecrest_mseed.py"
+RAW = Path(__file__).resolve().parents[3] / "shared" / "records" / "ridgecrest2019_ccc" / "CICCC.RAW"
+needs_raw = pytest.mark.skipif(not RAW.is_file(), reason=f"raw COSMOS record absent: {RAW}")
+
+# PGA of the processed record, measured from the shipped file (printed by the script). Not the
+# raw file's 0.567 g (E) / 0.471 g (N): the 0.1-25 Hz band-pass lowers the East peak.
+PGA_G = {"HNE": 0.5256, "HNN": 0.4714}
+
+
+def load_script() -> ModuleType:
+    """Import make_ridgecrest_mseed.py (a standalone script, not part of the package)."""
+    spec = importlib.util.spec_from_file_location("make_ridgecrest_mseed", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("channel", ["HNE", "HNN"])
+def test_shipped_record(channel):
+    rec = read_accelerogram(SHIPPED, trace=channel)
+    assert rec.dt == 0.01
+    assert rec.source.endswith(f"[CI.CCC..{channel}]")
+    assert rec.start_time == "2019-07-06T03:20:03.000000Z"
+    pga = np.abs(rec.acceleration).max() / UNIT_FACTORS["g"]
+    assert pga == pytest.approx(PGA_G[channel], rel=0.02)
+    assert abs(rec.acceleration[0]) < 1e-3 and abs(rec.acceleration[-1]) < 1e-3
+
+
+def test_shipped_channels_have_the_same_length():
+    east = read_accelerogram(SHIPPED, trace="HNE")
+    north = read_accelerogram(SHIPPED, trace="HNN")
+    assert east.acceleration.size == north.acceleration.size == 3401
+
+
+def test_shipped_file_is_small():
+    assert SHIPPED.stat().st_size < 1_000_000
+
+
+@needs_raw
+def test_script_reproduces_shipped_file(tmp_path):
+    import obspy
+
+    output = tmp_path / "rerun.mseed"
+    subprocess.run([sys.executable, str(SCRIPT), "--source", str(RAW), "--output", str(output)],
+                   check=True, capture_output=True)
+    rerun, shipped = obspy.read(str(output)), obspy.read(str(SHIPPED))
+    assert len(rerun) == len(shipped) == 2
+    for new, old in zip(rerun, shipped):
+        assert new.stats == old.stats
+        assert np.array_equal(new.data, old.data)
+
+
+@needs_raw
+def test_fixed_width_parser_finds_raw_peak():
+    channels = load_script().parse_cosmos_v1(RAW)
+    assert [channels[n].data.size for n in (1, 2, 3)] == [35430, 35402, 35406]
+    east = channels[1]
+    assert (east.orientation, east.units, east.sampling_rate) == ("90", "g", 100.0)
+    assert str(east.start) == "2019-07-06T03:19:37.000000Z"
+    peak = int(np.argmax(np.abs(east.data)))
+    assert abs(east.data[peak]) == pytest.approx(0.567, abs=0.0005)  # header: Max = -.567 g
+    assert peak / east.sampling_rate == pytest.approx(39.41, abs=0.01)  # at 39.410 sec
