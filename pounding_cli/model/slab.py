@@ -47,17 +47,20 @@ def convex_polygon(vertices: list[Point]) -> list[Point]:
                 f"vertices {i + 1} and {(i + 1) % len(pts) + 1} coincide at {_fmt(p)}; "
                 "give each corner once"
             )
-    area = signed_area(pts)
-    if abs(area) <= 1e-12 * size * size:
+    x0, y0 = pts[0]
+    if all(
+        abs((b[0] - x0) * (c[1] - y0) - (b[1] - y0) * (c[0] - x0)) <= 1e-12 * size * size
+        for b, c in zip(pts[1:], pts[2:])
+    ):
         raise ValueError("the slab polygon has zero area (all vertices on one line)")
-    if area < 0:
-        pts.reverse()
     polygon = shapely.Polygon(pts)
     if not polygon.is_valid:
         raise ValueError(
             f"the slab polygon is not simple ({shapely.is_valid_reason(polygon)}); "
             "list the corners in order around the slab"
         )
+    if signed_area(pts) < 0:
+        pts.reverse()
     n = len(pts)
     for i in range(n):
         a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]

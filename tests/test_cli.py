@@ -1,0 +1,120 @@
+"""The `pound` command line: exit codes, JSON output, default output name, schemas."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import h5py
+import pytest
+from typer.testing import CliRunner
+
+import pounding_cli as pound
+from pounding_cli.cli import app
+
+from conftest import EXAMPLE, INPUTS, ROOT
+
+runner = CliRunner()
+
+
+def pound_cmd(*args, cwd=None):
+    """Run the real console entry point in a subprocess."""
+    return subprocess.run(
+        [sys.executable, "-m", "pounding_cli", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
+
+
+def test_version():
+    r = runner.invoke(app, ["--version"])
+    assert r.exit_code == 0
+    assert r.output.strip() == f"pound {pound.__version__}"
+
+
+def test_validate_json():
+    r = runner.invoke(app, ["validate", str(EXAMPLE), "--json"])
+    assert r.exit_code == 0, r.output
+    info = json.loads(r.stdout)
+    left = info["buildings"][0]
+    assert left["name"] == "left" and left["storeys"] == 4
+    assert abs(left["periods_s"][0] - 0.44656) < 1e-4
+    assert info["analysis"]["dt_s"] < info["analysis"]["stability_limit_s"]
+
+
+def test_validate_prints_periods_and_time_step():
+    r = runner.invoke(app, ["validate", str(EXAMPLE)], env={"COLUMNS": "120"})
+    assert r.exit_code == 0
+    for words in ("building left", "0.4466", "Rayleigh", "a0 =", "stability limit", "PGA X"):
+        assert words in r.stdout
+
+
+def test_run_subprocess_writes_file_and_json(tmp_path):
+    out = tmp_path / "out.h5"
+    r = pound_cmd("run", EXAMPLE, "-o", out, "--json")
+    assert r.returncode == 0, r.stderr
+    summary = json.loads(r.stdout)  # stdout holds the JSON document and nothing else
+    assert summary["status"] == "complete"
+    assert summary["output"] == str(out)
+    left = {b["name"]: b for b in summary["buildings"]}["left"]
+    assert left["peak_interstorey_x"]["unit"] == "m"
+    with h5py.File(out) as f:
+        assert f.attrs["status"] == "complete"
+
+
+def test_run_default_output_name(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    r = runner.invoke(app, ["run", str(EXAMPLE), "--no-progress"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "paper_wide_gap.h5").exists()
+    assert "complete" in r.stdout
+
+
+def test_failed_run_exits_1_and_keeps_marked_file(tmp_path, monkeypatch):
+    from pounding_cli import api
+    from pounding_cli.assembly import TimeGrid
+
+    def unstable(analysis, omega_max, duration, source):
+        limit = 2 / omega_max
+        return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
+
+    monkeypatch.setattr(api, "time_grid", unstable)
+    out = tmp_path / "x.h5"
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(out)])
+    assert r.exit_code == 1
+    assert "failed: diverged" in r.stderr
+    with h5py.File(out) as f:
+        assert f.attrs["status"].startswith("failed: diverged")
+
+
+def test_schemas_are_in_sync():
+    """schemas/ holds exactly what `pound schema` writes (run it after changing a model)."""
+    r = runner.invoke(app, ["schema", "--check", "--out", str(ROOT / "schemas")])
+    assert r.exit_code == 0, r.output
+
+
+def test_schema_writes_files(tmp_path):
+    r = runner.invoke(app, ["schema", "--out", str(tmp_path)])
+    assert r.exit_code == 0
+    written = (tmp_path / "model.schema.json").read_text()
+    assert written == (ROOT / "schemas" / "model.schema.json").read_text()
+    schema = json.loads(written)
+    height = schema["$defs"]["Floor"]["properties"]["height"]
+    assert height["description"].endswith("m.")
+
+
+def _all_fields(schema):
+    for name, node in schema["$defs"].items():
+        for field, spec in node.get("properties", {}).items():
+            yield f"{name}.{field}", spec
+
+
+def test_every_field_has_a_description():
+    schema = pound.model.PoundModel.model_json_schema()
+    missing = [name for name, spec in _all_fields(schema) if not spec.get("description")]
+    assert not missing, f"fields without a description: {missing}"
+
+
+@pytest.mark.parametrize("path", sorted(INPUTS.glob("*.toml")) + sorted(INPUTS.glob("*.json")), ids=lambda p: p.name)
+def test_every_shipped_input_validates(path):
+    r = runner.invoke(app, ["validate", str(path)])
+    assert r.exit_code == 0, r.output
