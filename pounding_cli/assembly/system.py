@@ -24,14 +24,14 @@ class System:
     floor_start: np.ndarray  # (n_buildings + 1,) first global floor of each building
     mass: np.ndarray  # (n_dof,) diagonal of M
     dof_a0: np.ndarray  # (n_dof,) Rayleigh a0 of the DOF's building, 1/s
+    dof_a1: np.ndarray  # (n_dof,) Rayleigh a1 of the DOF's building, s
+    floor_centre: np.ndarray  # (n_floors, 2) global plan position of each mass centre, m
     storey_k: np.ndarray  # (n_storeys, 6, 6)
     storey_bottom: np.ndarray  # (n_storeys,) int64, −1 = ground
     storey_top: np.ndarray  # (n_storeys,) int64
-    storey_a1: np.ndarray  # (n_storeys,) Rayleigh a1 of the storey's building, s
+    storey_axes: np.ndarray  # (n_storeys, 2) cos φ, sin φ of the storey's building rotation
     column_storey: np.ndarray  # (n_columns,) int64, global storey of each column instance
-    column_arm_bottom: np.ndarray  # (n_columns, 2) m, from the bottom floor's mass centre
-    column_arm_top: np.ndarray  # (n_columns, 2) m, from the top floor's mass centre
-    column_axes: np.ndarray  # (n_columns, 2) cos, sin of the building rotation
+    column_plan: np.ndarray  # (n_columns, 2) global plan position, m
 
     @property
     def n_dof(self) -> int:
@@ -61,31 +61,28 @@ def combine(buildings: list[BuildingArrays]) -> System:
     """Number the floors, storeys and columns of several buildings into global arrays."""
     counts = [b.n_floors for b in buildings]
     start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    bottom, top, a1, a0 = [], [], [], []
-    col_storey, arm_b, arm_t, axes = [], [], [], []
+    bottom, top, axes, col_storey, col_plan = [], [], [], [], []
     for b, bld in enumerate(buildings):
         f0 = int(start[b])
         for s in range(bld.n_floors):
             bottom.append(f0 + s - 1 if s > 0 else -1)
             top.append(f0 + s)
-            a1.append(bld.rayleigh[1])
-        a0.extend([bld.rayleigh[0]] * 3 * bld.n_floors)
+            axes.append((np.cos(bld.rotation), np.sin(bld.rotation)))
         for c in bld.columns:
             col_storey.append(f0 + c.storey)
-            arm_b.append(c.arm_bottom)
-            arm_t.append(c.arm_top)
-            axes.append((np.cos(bld.rotation), np.sin(bld.rotation)))
+            col_plan.append(bld.mass_centre[c.storey] + c.arm_top)
+    per_dof = [np.full(3 * b.n_floors, 1.0) for b in buildings]
     return System(
         buildings=buildings,
         floor_start=start,
         mass=np.concatenate([b.mass for b in buildings]),
-        dof_a0=np.asarray(a0, dtype=float),
+        dof_a0=np.concatenate([b.rayleigh[0] * w for b, w in zip(buildings, per_dof)]),
+        dof_a1=np.concatenate([b.rayleigh[1] * w for b, w in zip(buildings, per_dof)]),
+        floor_centre=np.concatenate([b.mass_centre for b in buildings]),
         storey_k=np.ascontiguousarray(np.concatenate([b.storey_k for b in buildings])),
         storey_bottom=np.asarray(bottom, dtype=np.int64),
         storey_top=np.asarray(top, dtype=np.int64),
-        storey_a1=np.asarray(a1, dtype=float),
+        storey_axes=np.asarray(axes, dtype=float).reshape(-1, 2),
         column_storey=np.asarray(col_storey, dtype=np.int64),
-        column_arm_bottom=np.asarray(arm_b, dtype=float).reshape(-1, 2),
-        column_arm_top=np.asarray(arm_t, dtype=float).reshape(-1, 2),
-        column_axes=np.asarray(axes, dtype=float).reshape(-1, 2),
+        column_plan=np.asarray(col_plan, dtype=float).reshape(-1, 2),
     )

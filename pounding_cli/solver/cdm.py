@@ -1,19 +1,26 @@
 """The central difference method (the paper's integrator), compiled with numba.
 
 Written in the equivalent leapfrog form with half-step velocities, which is algebraically
-the classical CDM of Chopra (Table 5.3.1) for M·ü + C·u̇ + f_s(u) = p(t):
+the classical CDM of Chopra (Table 5.3.1) for M·ü + C·u̇ + K·u = p(t):
 
-    r_n       = p_n − f_s(u_n) − C·v_{n−½}
+    r_n       = p_n − K·u_n − C·v_{n−½}
     Δv_n      = (M/Δt + C/2)⁻¹ · r_n
     v_{n+½}   = v_{n−½} + Δv_n,     u_{n+1} = u_n + Δt·v_{n+½}
     v_n       = v_{n−½} + Δv_n/2,   a_n = Δv_n/Δt   (central-difference velocity, acceleration)
 
 with p_n = −M·ι·a_g(t_n) and C = a0·M + a1·K per building. (M/Δt + C/2)⁻¹ is dense per
-building and computed once. Everything here works on plain arrays and allocates nothing.
+building and computed once. One storey mat-vec per step, z = K·v_{n+½}, serves both the
+damping force C·v_{n+½} and the update K·u_{n+1} = K·u_n + Δt·z; K·u is recomputed exactly
+at every output step so rounding cannot accumulate.
 
 Energy (relative-motion form): E_input = ∫ v·p dt and E_damping = ∫ v·C·v dt by the
-trapezoidal rule over the central-difference velocities v_n; E_kinetic = ½ v_nᵀM v_n,
-E_strain = ½ u_nᵀK u_n. The balance error E_input − (E_k + E_s + E_d) is O(Δt²).
+trapezoidal rule over the central-difference velocities v_n (C·v_n = ½(C·v_{n−½} + C·v_{n+½})
+since C is linear); E_kinetic = ½ v_nᵀM v_n, E_strain = ½ u_nᵀK u_n. The balance error
+E_input − (E_k + E_s + E_d) is O(Δt²).
+
+State vectors hold n_dof + 3 entries: the last three are the ground, an extra floor whose
+DOFs stay zero and which is the bottom floor of every ground storey, so no storey is a
+special case. Everything here works on plain arrays and allocates nothing.
 """
 
 from __future__ import annotations
@@ -48,57 +55,24 @@ def ground_at(t, ground, ground_dt):
 
 
 @njit(cache=True)
-def storey_forces(x, y, storey_k, bottom, top, a1, fx, fy):
-    """fx = K·x and fy = Σ_s a1_s·K_s·y over all storeys (linear shear storeys)."""
-    fx[:] = 0.0
-    fy[:] = 0.0
+def storey_matvec(x, storey_k, bottom, top, out):
+    """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
+    out[:] = 0.0
     for s in range(storey_k.shape[0]):
-        b = bottom[s]
-        t = top[s]
+        b = 3 * bottom[s]
+        t = 3 * top[s]
         for r in range(6):
-            acc_x = 0.0
-            acc_y = 0.0
-            for c in range(6):
-                if c < 3:
-                    if b < 0:
-                        continue
-                    xc = x[3 * b + c]
-                    yc = y[3 * b + c]
-                else:
-                    xc = x[3 * t + c - 3]
-                    yc = y[3 * t + c - 3]
-                k = storey_k[s, r, c]
-                acc_x += k * xc
-                acc_y += k * yc
-            if r < 3:
-                if b < 0:
-                    continue
-                fx[3 * b + r] += acc_x
-                fy[3 * b + r] += a1[s] * acc_y
-            else:
-                fx[3 * t + r - 3] += acc_x
-                fy[3 * t + r - 3] += a1[s] * acc_y
+            acc = 0.0
+            for c in range(3):
+                acc += storey_k[s, r, c] * x[b + c] + storey_k[s, r, c + 3] * x[t + c]
+            out[b + r if r < 3 else t + r - 3] += acc
 
 
 @njit(cache=True)
-def storey_matvec(x, storey_k, bottom, top, weight, out):
-    """out = Σ_s weight_s·K_s·x over all storeys."""
-    out[:] = 0.0
-    for s in range(storey_k.shape[0]):
-        b = bottom[s]
-        t = top[s]
-        for r in range(6):
-            if r < 3 and b < 0:
-                continue
-            acc = 0.0
-            for c in range(6):
-                if c < 3:
-                    if b >= 0:
-                        acc += storey_k[s, r, c] * x[3 * b + c]
-                else:
-                    acc += storey_k[s, r, c] * x[3 * t + c - 3]
-            row = 3 * b + r if r < 3 else 3 * t + r - 3
-            out[row] += weight[s] * acc
+def damping_force(v, kv, mass, a0, a1, n_dof, out):
+    """out = C·v = a0·M·v + a1·K·v, DOF by DOF, given kv = K·v."""
+    for d in range(n_dof):
+        out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
 
 
 @njit(cache=True)
@@ -115,31 +89,38 @@ def solve_blocks(binv, dof_start, dof_count, r, out):
 
 
 @njit(cache=True)
-def update_peaks(u, acc_abs, storey_top, storey_bottom, col_storey, arm_b, arm_t, axes,
-                 peak_col, peak_rot, peak_disp, peak_acc):
-    """Running maxima: column deflections in building axes, storey twist, floor motion."""
-    for c in range(col_storey.size):
-        s = col_storey[c]
-        t = storey_top[s]
-        b = storey_bottom[s]
-        dx = u[3 * t] - u[3 * t + 2] * arm_t[c, 1]
-        dy = u[3 * t + 1] + u[3 * t + 2] * arm_t[c, 0]
-        if b >= 0:
-            dx -= u[3 * b] - u[3 * b + 2] * arm_b[c, 1]
-            dy -= u[3 * b + 1] + u[3 * b + 2] * arm_b[c, 0]
-        lx = abs(axes[c, 0] * dx + axes[c, 1] * dy)
-        ly = abs(-axes[c, 1] * dx + axes[c, 0] * dy)
-        if lx > peak_col[c, 0]:
-            peak_col[c, 0] = lx
-        if ly > peak_col[c, 1]:
-            peak_col[c, 1] = ly
+def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
+                 col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc):
+    """Running maxima: column deflections in building axes, storey twist, floor motion.
+
+    A point P of a floor with mass centre G moves by u + θ·ẑ×(P − G), so a column at P of
+    storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
+    In building axes (cos φ, sin φ) the deflection is Ã + Δθ·(ξ, η) with
+    ξ = −cos φ·P_y + sin φ·P_x and η = sin φ·P_y + cos φ·P_x (col_arm holds ξ, η).
+    storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey.
+    """
     for s in range(storey_top.size):
         t = storey_top[s]
         b = storey_bottom[s]
-        rot = u[3 * t + 2] - (u[3 * b + 2] if b >= 0 else 0.0)
+        ax = u[3 * t] + u[3 * t + 2] * centre[t, 1] - u[3 * b] - u[3 * b + 2] * centre[b, 1]
+        ay = u[3 * t + 1] - u[3 * t + 2] * centre[t, 0] - u[3 * b + 1] + u[3 * b + 2] * centre[b, 0]
+        rot = u[3 * t + 2] - u[3 * b + 2]
+        c = storey_axes[s, 0]
+        sn = storey_axes[s, 1]
+        storey_work[s, 0] = c * ax + sn * ay
+        storey_work[s, 1] = c * ay - sn * ax
+        storey_work[s, 2] = rot
         if abs(rot) > peak_rot[s]:
             peak_rot[s] = abs(rot)
-    for d in range(u.size):
+    for k in range(col_storey.size):
+        s = col_storey[k]
+        lx = abs(storey_work[s, 0] + storey_work[s, 2] * col_arm[k, 0])
+        ly = abs(storey_work[s, 1] + storey_work[s, 2] * col_arm[k, 1])
+        if lx > peak_col[k, 0]:
+            peak_col[k, 0] = lx
+        if ly > peak_col[k, 1]:
+            peak_col[k, 1] = ly
+    for d in range(n_dof):
         if abs(u[d]) > peak_disp[d]:
             peak_disp[d] = abs(u[d])
         if abs(acc_abs[d]) > peak_acc[d]:
@@ -150,55 +131,63 @@ def update_peaks(u, acc_abs, storey_top, storey_bottom, col_storey, arm_b, arm_t
 def advance(
     n_start, n_stop, dt, stride, u_limit,
     # structure
-    mass, dof_a0, storey_k, storey_bottom, storey_top, storey_a1, binv, dof_start, dof_count,
+    mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     # ground
     ground, ground_dt,
-    # columns (for peaks)
-    col_storey, arm_b, arm_t, axes,
-    # state, carried between calls
-    u, v_half, acc,
+    # geometry for peaks
+    storey_axes, centre, col_storey, col_arm,
+    # state, carried between calls: u_n, v_{n-1/2}, K·u_n, C·v_{n-1/2}, energy accumulators
+    u, v_half, ku, cv_half, acc,
     # peaks
     peak_col, peak_rot, peak_disp, peak_acc,
     # outputs at every `stride` steps
     out_u, out_v, out_a, out_ground, out_energy,
-    # work arrays (n_dof each)
-    ku, cv, r, dv, v, a_abs,
+    # work arrays (n_dof + 3 each, and n_storeys × 3)
+    r, dv, v, a_abs, z, cv_next, storey_work,
 ):
     """Advance steps n_start … n_stop − 1; returns (status, last step done + 1)."""
     n_dof = mass.size
+    n_floors = n_dof // 3
     for n in range(n_start, n_stop):
         # 1. ground input at t_n
         agx, agy = ground_at(n * dt, ground, ground_dt)
-        # 2. internal forces: K·u_n and the stiffness part of C·v_{n-1/2}
-        storey_forces(u, v_half, storey_k, storey_bottom, storey_top, storey_a1, ku, cv)
+        # 2. internal forces K·u_n and C·v_{n-1/2} are carried in ku, cv_half
         # 3. (contact forces: none yet)
         # 4. residual and velocity increment
-        for d in range(n_dof):
-            ag = agx if d % 3 == 0 else (agy if d % 3 == 1 else 0.0)
-            r[d] = -mass[d] * ag - ku[d] - cv[d] - dof_a0[d] * mass[d] * v_half[d]
+        for f in range(n_floors):
+            d = 3 * f
+            r[d] = -mass[d] * agx - ku[d] - cv_half[d]
+            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1]
+            r[d + 2] = -ku[d + 2] - cv_half[d + 2]
         solve_blocks(binv, dof_start, dof_count, r, dv)
         # 5. state at t_n: central-difference velocity, absolute acceleration
         for d in range(n_dof):
             v[d] = v_half[d] + 0.5 * dv[d]
-            ag = agx if d % 3 == 0 else (agy if d % 3 == 1 else 0.0)
-            a_abs[d] = dv[d] / dt + ag
-        # 6. energy: trapezoidal input and damping work
-        storey_matvec(v, storey_k, storey_bottom, storey_top, storey_a1, cv)
+            a_abs[d] = dv[d] / dt
+        for f in range(n_floors):
+            a_abs[3 * f] += agx
+            a_abs[3 * f + 1] += agy
+        # 6. the one mat-vec of the step: z = K·v_{n+1/2}, C·v_{n+1/2}
+        for d in range(n_dof):
+            v_half[d] += dv[d]
+        storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
+        damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_next)
+        # 7. energy: trapezoidal input and damping work
         p_in = 0.0
         p_damp = 0.0
+        for f in range(n_floors):
+            p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
         for d in range(n_dof):
-            ag = agx if d % 3 == 0 else (agy if d % 3 == 1 else 0.0)
-            p_in += -mass[d] * ag * v[d]
-            p_damp += v[d] * (cv[d] + dof_a0[d] * mass[d] * v[d])
+            p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
         if n > 0:
             acc[ACC_INPUT] += 0.5 * dt * (acc[ACC_P_INPUT] + p_in)
             acc[ACC_DAMPING] += 0.5 * dt * (acc[ACC_P_DAMPING] + p_damp)
         acc[ACC_P_INPUT] = p_in
         acc[ACC_P_DAMPING] = p_damp
-        # 7. peaks at every step
-        update_peaks(u, a_abs, storey_top, storey_bottom, col_storey, arm_b, arm_t, axes,
-                     peak_col, peak_rot, peak_disp, peak_acc)
-        # 8. output and divergence check
+        # 8. peaks at every step
+        update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
+                     col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
+        # 9. output and divergence check
         if n % stride == 0:
             k = n // stride
             e_kin = 0.0
@@ -225,8 +214,11 @@ def advance(
             out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING])
             if not worst <= u_limit:
                 return STATUS_DIVERGED, n + 1
-        # 9. update
+        # 10. update to t_{n+1} (the ground entries stay zero)
         for d in range(n_dof):
-            v_half[d] += dv[d]
             u[d] += dt * v_half[d]
+            ku[d] += dt * z[d]
+            cv_half[d] = cv_next[d]
+        if (n + 1) % stride == 0:
+            storey_matvec(u, storey_k, storey_bottom, storey_top, ku)
     return STATUS_OK, n_stop

@@ -24,15 +24,15 @@ class StructureArrays(Protocol):
 
     mass: np.ndarray
     dof_a0: np.ndarray
+    dof_a1: np.ndarray
+    floor_start: np.ndarray
+    floor_centre: np.ndarray
     storey_k: np.ndarray
     storey_bottom: np.ndarray
     storey_top: np.ndarray
-    storey_a1: np.ndarray
-    floor_start: np.ndarray
+    storey_axes: np.ndarray
     column_storey: np.ndarray
-    column_arm_bottom: np.ndarray
-    column_arm_top: np.ndarray
-    column_axes: np.ndarray
+    column_plan: np.ndarray
 
 
 @dataclass
@@ -55,39 +55,44 @@ class Response:
     status: str  # "complete" or "failed: …"
 
 
+def ground_as_floor(structure: StructureArrays) -> np.ndarray:
+    """Storey bottoms with the ground (−1) mapped to the extra zero floor at the end."""
+    return np.where(structure.storey_bottom < 0, structure.mass.size // 3, structure.storey_bottom)
+
+
+def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
+    """K·x for a vector of n_dof + 3 entries (ground last), by the solver's own kernel."""
+    out = np.empty_like(x)
+    cdm.storey_matvec(x, structure.storey_k, ground_as_floor(structure), structure.storey_top, out)
+    return out
+
+
 def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(B⁻¹ blocks padded to (n_b, n_max, n_max), DOF start, DOF count) with B = M/Δt + C/2."""
     starts = 3 * np.asarray(structure.floor_start[:-1], dtype=np.int64)
     counts = 3 * np.diff(structure.floor_start).astype(np.int64)
     n_max = int(counts.max())
     binv = np.zeros((starts.size, n_max, n_max))
-    ones = np.ones(structure.storey_k.shape[0])
+    x = np.zeros(structure.mass.size + 3)
     for b, (d0, n) in enumerate(zip(starts, counts)):
-        k = _dense_block(structure, d0, n, ones)
+        k = np.empty((n, n))
+        for j in range(n):  # dense K of the building, column by column
+            x[:] = 0.0
+            x[d0 + j] = 1.0
+            k[:, j] = stiffness_times(structure, x)[d0 : d0 + n]
         m = structure.mass[d0 : d0 + n]
-        a1 = _block_a1(structure, d0)
-        c = np.diag(structure.dof_a0[d0 : d0 + n] * m) + a1 * k
+        c = np.diag(structure.dof_a0[d0 : d0 + n] * m) + structure.dof_a1[d0] * k
         binv[b, :n, :n] = np.linalg.inv(np.diag(m / dt) + c / 2)
     return binv, starts, counts
 
 
-def _block_a1(structure: StructureArrays, d0: int) -> float:
-    """Rayleigh a1 of the building whose DOFs start at d0 (its storeys share one a1)."""
-    first_storey = int(np.flatnonzero(structure.storey_top == d0 // 3)[0])
-    return float(structure.storey_a1[first_storey])
-
-
-def _dense_block(structure: StructureArrays, d0: int, n: int, weight: np.ndarray) -> np.ndarray:
-    """Dense K of the DOFs d0 … d0+n−1 by applying the storey kernel to unit vectors."""
-    total = structure.mass.size
-    k = np.empty((n, n))
-    x, out = np.zeros(total), np.empty(total)
-    for j in range(n):
-        x[:] = 0.0
-        x[d0 + j] = 1.0
-        cdm.storey_matvec(x, structure.storey_k, structure.storey_bottom, structure.storey_top, weight, out)
-        k[:, j] = out[d0 : d0 + n]
-    return k
+def peak_geometry(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
+    """(mass centres with a zero ground row appended, column (ξ, η)) for cdm.update_peaks."""
+    centre = np.vstack([structure.floor_centre, np.zeros((1, 2))])
+    axes = structure.storey_axes[structure.column_storey]
+    px, py = structure.column_plan[:, 0], structure.column_plan[:, 1]
+    c, s = axes[:, 0], axes[:, 1]
+    return centre, np.column_stack([-c * py + s * px, s * py + c * px])
 
 
 def simulate(
@@ -102,20 +107,27 @@ def simulate(
 ) -> Response:
     """Integrate from rest over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt."""
     n_dof = structure.mass.size
+    n_storeys = structure.storey_k.shape[0]
     n_out = n_steps // stride + 1
     binv, starts, counts = step_matrices(structure, dt)
-    u = np.zeros(n_dof)
+    bottom = ground_as_floor(structure)
+    centre, col_arm = peak_geometry(structure)
+    u = np.zeros(n_dof + 3)
+    ku = np.zeros(n_dof + 3)
     # v_{-1/2} = v_0 − Δt/2·a_0 with a_0 = −ι·a_g(0) from rest (classical CDM start)
-    v_half = np.zeros(n_dof)
-    v_half[0::3] = 0.5 * dt * ground[0, 0]
-    v_half[1::3] = 0.5 * dt * ground[0, 1]
+    v_half = np.zeros(n_dof + 3)
+    v_half[0:n_dof:3] = 0.5 * dt * ground[0, 0]
+    v_half[1:n_dof:3] = 0.5 * dt * ground[0, 1]
+    cv_half = np.zeros(n_dof + 3)
+    cdm.damping_force(v_half, stiffness_times(structure, v_half), structure.mass, structure.dof_a0,
+                      structure.dof_a1, n_dof, cv_half)  # fmt: skip
     acc = np.zeros(4)
     n_col = structure.column_storey.size
-    peaks = (np.zeros((n_col, 2)), np.zeros(structure.storey_k.shape[0]), np.zeros(n_dof), np.zeros(n_dof))
+    peaks = (np.zeros((n_col, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
     outs = [np.full((n_out, n_dof), np.nan) for _ in range(3)]
     out_ground = np.full((n_out, 2), np.nan)
     out_energy = np.full((n_out, 7), np.nan)
-    work = [np.zeros(n_dof) for _ in range(6)]
+    work = [np.zeros(n_dof + 3) for _ in range(6)] + [np.zeros((n_storeys, 3))]
     chunk = max(stride, chunk - chunk % stride)
     status, done = cdm.STATUS_OK, 0
     wall = 0.0
@@ -125,12 +137,11 @@ def simulate(
             t0 = time.perf_counter()
             status, done = cdm.advance(
                 done, stop, dt, stride, DIVERGENCE_LIMIT,
-                structure.mass, structure.dof_a0, structure.storey_k, structure.storey_bottom,
-                structure.storey_top, structure.storey_a1, binv, starts, counts,
+                structure.mass, structure.dof_a0, structure.dof_a1, structure.storey_k, bottom,
+                structure.storey_top, binv, starts, counts,
                 ground, ground_dt,
-                structure.column_storey, structure.column_arm_bottom, structure.column_arm_top,
-                structure.column_axes,
-                u, v_half, acc, *peaks, *outs, out_ground, out_energy, *work,
+                structure.storey_axes, centre, structure.column_storey, col_arm,
+                u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, *work,
             )  # fmt: skip
             wall += time.perf_counter() - t0
             if progress is not None:
@@ -142,9 +153,8 @@ def simulate(
     if status == cdm.STATUS_OK:
         text, valid = "complete", n_out
     elif status == cdm.STATUS_DIVERGED:
-        t_fail = (done - 1) * dt
         text = (
-            f"failed: diverged at t = {t_fail:.4g} s (a displacement exceeded "
+            f"failed: diverged at t = {(done - 1) * dt:.4g} s (a displacement exceeded "
             f"{DIVERGENCE_LIMIT:g} m or became NaN); Δt = {dt:.3g} s may be too large"
         )
         valid = (done - 1) // stride
