@@ -7,28 +7,51 @@ The Python API (the CLI is a thin layer over it)::
     info = pound.describe(model)                 # periods, damping, Δt, record
     result = pound.run_model(model, output="out.h5")
     again = pound.read_hdf5("out.h5")
+
+Names are imported on first use, so `pound --version` and input errors answer without
+loading numba, scipy and h5py.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-from .api import describe, prepare, run_model  # noqa: E402
-from .errors import AnalysisFailed, InputError, PoundError, RecordReadError  # noqa: E402
-from .model import LoadedModel, PoundModel, load_model  # noqa: E402
-from .results import RunResult, read_hdf5, write_hdf5  # noqa: E402
+_EXPORTS = {
+    "describe": "api",
+    "prepare": "api",
+    "run_model": "api",
+    "AnalysisFailed": "errors",
+    "InputError": "errors",
+    "PoundError": "errors",
+    "RecordReadError": "errors",
+    "LoadedModel": "model",
+    "PoundModel": "model",
+    "load_model": "model",
+    "RunResult": "results",
+    "read_hdf5": "results",
+    "write_hdf5": "results",
+}
+_SUBMODULES = {"api", "assembly", "cli", "errors", "model", "records", "results", "schema", "solver"}
 
-__all__ = [
-    "AnalysisFailed",
-    "InputError",
-    "LoadedModel",
-    "PoundError",
-    "PoundModel",
-    "RecordReadError",
-    "RunResult",
-    "__version__",
-    "describe",
-    "load_model",
-    "prepare",
-    "read_hdf5",
-    "run_model",
-    "write_hdf5",
-]
+__all__ = ["__version__", *_EXPORTS]
+
+if TYPE_CHECKING:
+    from .api import describe, prepare, run_model
+    from .errors import AnalysisFailed, InputError, PoundError, RecordReadError
+    from .model import LoadedModel, PoundModel, load_model
+    from .results import RunResult, read_hdf5, write_hdf5
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_EXPORTS, *_SUBMODULES])
