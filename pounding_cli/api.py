@@ -2,7 +2,7 @@
 
     import pounding_cli as pound
     model = pound.load_model("inputs/paper_wide_gap.toml")
-    print(pound.describe(model)["buildings"][0]["periods"])
+    print(pound.describe(model)["buildings"][0]["periods_s"])
     result = pound.run_model(model, output="out.h5")
     result.buildings["left"].column("C9")      # peak interstorey deflections, (storeys, 3)
 """
@@ -27,6 +27,8 @@ from .solver import simulate
 G = 9.80665
 MAX_OUTPUT_BYTES = 8 * 2**30
 """Refuse runs whose stored histories would exceed this (8 GiB)."""
+MAX_STEPS = 10**9
+"""Refuse runs of more time steps than this (about half an hour of solver time)."""
 
 
 def _loaded(model: str | Path | LoadedModel) -> LoadedModel:
@@ -39,6 +41,14 @@ def prepare(model: str | Path | LoadedModel) -> tuple[LoadedModel, System, Groun
     system = assemble(loaded)
     ground = ground_motion(loaded)
     grid = time_grid(loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source))
+    if grid.n_steps > MAX_STEPS:
+        raise InputError(
+            f"the analysis would take {grid.n_steps:.3g} steps of {grid.dt:.3g} s (ω_max = "
+            f"{system.omega_max:.3g} rad/s), more than the limit of {MAX_STEPS:.0e}; check the "
+            "units of column sections (m), storey heights (m), E (Pa) and masses (kg)",
+            file=loaded.source,
+            field="analysis.dt",
+        )
     size = grid.n_outputs * system.n_dof * 8 * 3
     if size > MAX_OUTPUT_BYTES:
         raise InputError(
@@ -49,6 +59,14 @@ def prepare(model: str | Path | LoadedModel) -> tuple[LoadedModel, System, Groun
             field="analysis.output_interval",
         )
     return loaded, system, ground, grid
+
+
+def check_output_path(path: Path) -> None:
+    """Refuse, before any work, an output whose folder is missing or which is a folder."""
+    if path.is_dir():
+        raise InputError("is a folder; give a file name for the results, e.g. out.h5", file=path)
+    if not path.parent.is_dir():
+        raise InputError(f"the folder {str(path.parent)!r} does not exist; create it first", file=path)
 
 
 def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
@@ -127,6 +145,8 @@ def run_model(
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
     marked by its status). Check `result.complete`."""
     loaded, system, ground, grid = prepare(model)
+    if output is not None:
+        check_output_path(Path(output))
     t0 = time.perf_counter()
     response = simulate(system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress)
     diagnostics = {

@@ -19,11 +19,7 @@ from rich.table import Table
 from . import __version__
 from .errors import PoundError
 
-app = typer.Typer(
-    add_completion=False,
-    no_args_is_help=True,
-    help="Simulate earthquake-induced pounding between adjacent buildings in 3D.",
-)
+app = typer.Typer(add_completion=False, no_args_is_help=True)
 out = Console(highlight=False)
 err = Console(stderr=True, highlight=False)
 
@@ -50,23 +46,26 @@ def _version(show: bool) -> None:
         raise typer.Exit()
 
 
-@app.callback()
+@app.callback(
+    help="Simulate earthquake-induced pounding between adjacent buildings in 3D.\n\n"
+    "Exit codes: 0 success, 1 the analysis failed (partial results kept and marked), "
+    "2 bad input or usage."
+)
 def main_options(
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
     ] = False,
 ) -> None:
-    """Simulate earthquake-induced pounding between adjacent buildings in 3D.
-
-    Exit codes: 0 success, 1 the analysis failed (partial results kept and marked),
-    2 bad input or usage.
-    """
+    """pound's global options."""
 
 
-@app.command()
+@app.command(
+    help="Check a model and print what it resolves to.\n\n"
+    "Masses, periods and participating mass, Rayleigh coefficients, the record and the "
+    "time step; --json prints the same as one JSON document."
+)
 def validate(model: ModelArg, json_: JsonOpt = False) -> None:
-    """Check a model and print what it resolves to: masses, periods and participating
-    mass, Rayleigh coefficients, the record and the time step."""
+    """Check a model and print what it resolves to."""
     from .api import describe
 
     with reported():
@@ -77,19 +76,24 @@ def validate(model: ModelArg, json_: JsonOpt = False) -> None:
     _print_description(info)
 
 
-@app.command()
+@app.command(
+    help="Run one analysis and write its results to HDF5.\n\n"
+    "Time histories, peak interstorey deflections of every column, the energy balance. "
+    "A run that fails (diverges, is interrupted) still writes its partial results, marked "
+    "in the file's status, and exits 1."
+)
 def run(
     model: ModelArg,
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", help="HDF5 result file [default: the model's name with .h5, here]."),
+        typer.Option("-o", "--output", help="HDF5 result file (default: the model's name with .h5, in the current folder)."),
     ] = None,
     json_: JsonOpt = False,
     progress: Annotated[
-        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr [default: if a terminal].")
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
     ] = None,
 ) -> None:
-    """Run one analysis and write its results (time histories, peaks, energy) to HDF5."""
+    """Run one analysis and write its results to HDF5."""
     from .api import run_model
 
     target = output if output is not None else Path(model.name).with_suffix(".h5")
@@ -107,12 +111,15 @@ def run(
         raise typer.Exit(1)
 
 
-@app.command()
+@app.command(
+    help="Write the JSON Schemas of the input files.\n\n"
+    "They are generated from the pydantic models that validate the files."
+)
 def schema(
     out_dir: Annotated[Path, typer.Option("--out", help="Folder to write the schemas into.")] = Path("schemas"),
     check: Annotated[bool, typer.Option("--check", help="Write nothing; exit 1 if the files differ.")] = False,
 ) -> None:
-    """Write the JSON Schemas of the input files (generated from the pydantic models)."""
+    """Write the JSON Schemas of the input files."""
     from .schema import schema_files
 
     stale = []
@@ -156,6 +163,8 @@ def _progress_bar(show: bool) -> Iterator[Any]:
 
 def run_summary(result: Any) -> dict[str, Any]:
     """The short summary printed after a run (also the --json document)."""
+    import numpy as np
+
     d = result.diagnostics
     buildings = []
     for name, b in result.buildings.items():
@@ -165,15 +174,12 @@ def run_summary(result: Any) -> dict[str, Any]:
             values = isd[:, :, k]
             if values.size == 0 or not (values == values).any():
                 continue
-            import numpy as np
-
             c, s = np.unravel_index(np.nanargmax(values), values.shape)
-            entry[f"peak_interstorey_{comp}"] = {
-                "value": float(values[c, s]),
-                "unit": "rad" if comp == "theta" else "m",
-                "column": b.column_names[c],
-                "storey": int(s) + 1,
-            }
+            peak = {"value": float(values[c, s]), "unit": "rad" if comp == "theta" else "m"}
+            if comp != "theta":  # a storey's twist is the same at every column
+                peak["column"] = b.column_names[c]
+            peak["storey"] = int(s) + 1
+            entry[f"peak_interstorey_{comp}"] = peak
         buildings.append(entry)
     return {
         "status": result.status,
@@ -204,7 +210,8 @@ def _print_summary(s: dict[str, Any]) -> None:
         cells = []
         for comp, scale in (("x", 1e3), ("y", 1e3), ("theta", 1e3)):
             p = b.get(f"peak_interstorey_{comp}")
-            cells.append(f"{scale * p['value']:.3g} ({p['column']}, storey {p['storey']})" if p else "-")
+            where = f"{p['column']}, storey {p['storey']}" if p and "column" in p else f"storey {p['storey']}" if p else ""
+            cells.append(f"{scale * p['value']:.3g} ({where})" if p else "-")
         table.add_row(b["name"], *cells)
     out.print(table)
 
@@ -212,8 +219,10 @@ def _print_summary(s: dict[str, Any]) -> None:
 def _print_description(info: dict[str, Any]) -> None:
     out.print(f"[bold]{info['title'] or info['file']}[/bold]")
     for b in info["buildings"]:
-        table = Table(title=f"building {b['name']}: {b['storeys']} storeys, {b['height_m']:g} m, "
-                      f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines")  # fmt: skip
+        storeys = f"{b['storeys']} storey" + ("s" if b["storeys"] != 1 else "")
+        out.print(f"[bold]building {b['name']}[/bold]: {storeys}, {b['height_m']:g} m, "
+                  f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines")  # fmt: skip
+        table = Table()
         for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
             table.add_column(col, justify="right")
         for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):

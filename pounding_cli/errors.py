@@ -38,9 +38,17 @@ class InputError(PoundError):
 
 
 class RecordReadError(PoundError):
-    """A record file could not be read or does not hold what was asked for."""
+    """A record file could not be read or does not hold what was asked for.
+
+    `field` names the setting of the record component at fault: "file" (the default),
+    "trace", "units", "format" or "dt".
+    """
 
     exit_code = 2
+
+    def __init__(self, message: str, *, field: str = "file"):
+        self.field = field
+        super().__init__(message)
 
 
 class AnalysisFailed(PoundError):

@@ -99,7 +99,7 @@ def test_schema_writes_files(tmp_path):
     assert written == (ROOT / "schemas" / "model.schema.json").read_text()
     schema = json.loads(written)
     height = schema["$defs"]["Floor"]["properties"]["height"]
-    assert height["description"].endswith("m.")
+    assert ", m," in height["description"]  # the unit travels with the description
 
 
 def _all_fields(schema):
@@ -118,3 +118,20 @@ def test_every_field_has_a_description():
 def test_every_shipped_input_validates(path):
     r = runner.invoke(app, ["validate", str(path)])
     assert r.exit_code == 0, r.output
+
+
+def test_missing_output_folder_is_refused_before_running(tmp_path):
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(tmp_path / "no" / "x.h5")])
+    assert r.exit_code == 2
+    assert "does not exist; create it first" in r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_trace_may_be_an_integer_index():
+    from conftest import load_doc, model_doc
+
+    doc = model_doc()
+    doc["excitation"]["record"]["L"]["trace"] = 0  # HNE is the first trace of the file
+    doc["excitation"]["components"] = ["L"]
+    info = pound.describe(load_doc(doc))
+    assert abs(info["excitation"]["pga_g"]["X"] - 0.5256) < 1e-3

@@ -49,7 +49,7 @@ def read_components(loaded: LoadedModel) -> tuple[dict[str, Accelerogram], dict[
             )
             hashes[name] = hashlib.sha256(path.read_bytes()).hexdigest()
         except RecordReadError as exc:
-            raise InputError(str(exc), file=loaded.source, field=f"{field_path}.file") from None
+            raise InputError(str(exc), file=loaded.source, field=f"{field_path}.{exc.field}") from None
     return out, hashes
 
 
@@ -62,15 +62,18 @@ def ground_motion(loaded: LoadedModel) -> GroundMotion:
     n = int(np.floor(span / dt + 1e-9)) + 1
     t = np.arange(n) * dt
     notes = []
-    if len({c.dt for c in components.values()}) > 1:
+    same_dt = all(abs(c.dt - dt) <= 1e-9 * dt for c in components.values())
+    if not same_dt:
         notes.append(f"components have different sample intervals; resampled linearly to {dt:g} s")
-    if len({c.acceleration.size * c.dt for c in components.values()}) > 1:
+    if max(c.duration for c in components.values()) - span > 0.5 * dt:
         notes.append(f"components have different lengths; cut to the common {span:g} s")
     resampled = {}
     for name, comp in components.items():
-        tc = np.arange(comp.acceleration.size) * comp.dt
-        same = comp.dt == dt and comp.acceleration.size >= n
-        resampled[name] = comp.acceleration[:n] if same else np.interp(t, tc, comp.acceleration)
+        if abs(comp.dt - dt) <= 1e-9 * dt:
+            resampled[name] = comp.acceleration[:n]
+        else:
+            tc = np.arange(comp.acceleration.size) * comp.dt
+            resampled[name] = np.interp(t, tc, comp.acceleration)
     theta = np.radians(excitation.angle)
     a_l = resampled.get("L", np.zeros(n))
     a_t = resampled.get("T", np.zeros(n))

@@ -12,8 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..model import LoadedModel
 from .building import BuildingArrays, assemble_building
+
+LEVEL_TOLERANCE = 1e-3
+"""Floors of two buildings whose elevations differ by less than this (m) are at one level."""
 
 
 @dataclass(frozen=True)
@@ -54,7 +58,28 @@ def assemble(loaded: LoadedModel) -> System:
         assemble_building(b, model.materials, f"buildings[{i}]", str(loaded.source))
         for i, b in enumerate(model.buildings)
     ]
+    check_no_overlap_at_rest(buildings, str(loaded.source))
     return combine(buildings)
+
+
+def check_no_overlap_at_rest(buildings: list[BuildingArrays], source: str) -> None:
+    """Slabs of different buildings at one level must not overlap before the ground moves."""
+    import shapely
+
+    for j, b in enumerate(buildings):
+        for i, a in enumerate(buildings[:j]):
+            for fa, za in enumerate(a.elevation):
+                for fb in np.flatnonzero(np.abs(b.elevation - za) < LEVEL_TOLERANCE):
+                    pa, pb = shapely.Polygon(a.slabs[fa]), shapely.Polygon(b.slabs[fb])
+                    area = pa.intersection(pb).area
+                    if area > 1e-9 * min(pa.area, pb.area):
+                        raise InputError(
+                            f"at rest, floor {fb + 1} of building {b.name!r} overlaps floor {fa + 1} "
+                            f"of building {a.name!r} at elevation {za:g} m by {area:.4g} m²; move "
+                            "the building (origin, rotation) so that the slabs are apart or touch",
+                            file=source,
+                            field=f"buildings[{j}].origin",
+                        )
 
 
 def combine(buildings: list[BuildingArrays]) -> System:

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, PlainValidator, WithJsonSchema
 
-from .base import Strict
+from .base import Positive, Strict
 
 
 def _dt_or_auto(value: Any) -> float | Literal["auto"]:
@@ -36,7 +36,7 @@ TimeStep = Annotated[
 class Analysis(Strict):
     """How long and how finely to integrate, and how often to store the state."""
 
-    duration: Annotated[float, Field(gt=0)] | None = None
+    duration: Positive | None = None
     """Length of the analysis, s. Default: the length of the shortest applied record
     component. After a record ends the ground is at rest (free vibration). Rounded up to a
     whole number of output intervals."""
@@ -45,6 +45,6 @@ class Analysis(Strict):
     """Time step, s, or "auto": a fixed fraction of the central difference stability limit
     2/ω_max, adjusted so that it divides the output interval (see docs/theory.md)."""
 
-    output_interval: Annotated[float, Field(gt=0, le=10.0)] = 0.01
+    output_interval: Annotated[Positive, Field(le=10.0)] = 0.01
     """Interval of the stored time histories, s; rounded to a whole number of time steps.
     Peaks are taken at every step regardless."""

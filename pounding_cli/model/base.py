@@ -1,12 +1,24 @@
-"""The strict base every input node derives from.
+"""The strict base every input node derives from, and the number types of input fields.
 
 Unknown keys are errors (``extra="forbid"``), NaN and infinity are rejected, and the
 docstring under each field becomes its JSON-Schema description, which carries the unit.
+Numbers are strict: ``true`` or ``"3.0"`` is not a number (an integer is).
 """
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field, Strict as StrictType
+
+Real = Annotated[float, StrictType()]
+"""A finite real number (integers accepted, booleans and strings not)."""
+
+Positive = Annotated[float, StrictType(), Field(gt=0)]
+"""A finite real number > 0."""
+
+Count = Annotated[int, StrictType()]
+"""An integer (booleans and strings are not)."""
 
 
 class Strict(BaseModel):

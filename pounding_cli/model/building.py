@@ -9,11 +9,11 @@ from typing import Annotated
 
 from pydantic import Field, field_validator, model_validator
 
-from .base import Strict
+from .base import Count, Positive, Real, Strict
 from .slab import SlabPolygon
 
-PositiveFloat = Annotated[float, Field(gt=0)]
-Section = tuple[PositiveFloat, PositiveFloat]
+Width = Annotated[Real, Field(ge=0.001, le=50.0)]
+Section = tuple[Width, Width]
 Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
 
 
@@ -24,16 +24,17 @@ class Column(Strict):
     """Column name, unique within its storey (e.g. "C9"); a name used in several storeys
     denotes one column line and must keep its plan position."""
 
-    x: float
+    x: Real
     """Plan x of the column axis in building coordinates, m."""
 
-    y: float
+    y: Real
     """Plan y of the column axis in building coordinates, m."""
 
     section: Section
-    """Rectangular section [b_x, b_y], m: width along the column's local x and y axes."""
+    """Rectangular section [b_x, b_y], m (each 0.001 to 50): widths along the column's
+    local x and y axes."""
 
-    angle: float = 0.0
+    angle: Real = 0.0
     """Rotation of the column's local x axis from the building's x axis, degrees,
     counter-clockwise."""
 
@@ -46,16 +47,16 @@ class ColumnGrid(Strict):
     along x, from the corner at the smallest x and y (the paper's numbering: on a 3×3 grid
     C9 is the corner at the largest x and y)."""
 
-    x: Annotated[list[float], Field(min_length=1, max_length=1000)]
-    """Plan x of the grid lines in building coordinates, m, increasing."""
+    x: Annotated[list[Real], Field(min_length=1, max_length=1000)]
+    """Plan x of the grid lines in building coordinates, m, strictly increasing."""
 
-    y: Annotated[list[float], Field(min_length=1, max_length=1000)]
-    """Plan y of the grid lines in building coordinates, m, increasing."""
+    y: Annotated[list[Real], Field(min_length=1, max_length=1000)]
+    """Plan y of the grid lines in building coordinates, m, strictly increasing."""
 
     section: Section
-    """Rectangular section [b_x, b_y] of every generated column, m."""
+    """Rectangular section [b_x, b_y] of every generated column, m (each 0.001 to 50)."""
 
-    angle: float = 0.0
+    angle: Real = 0.0
     """Rotation of every generated column's local x axis from the building's x axis,
     degrees, counter-clockwise."""
 
@@ -66,8 +67,8 @@ class ColumnGrid(Strict):
     """Prefix of the generated names: prefix + running number."""
 
     sections: dict[Name, Section] = {}
-    """Sections [b_x, b_y] in m that replace `section` for the named generated columns,
-    e.g. {C1 = [1.0, 0.3]}."""
+    """Sections [b_x, b_y] in m (each 0.001 to 50) that replace `section` for the named
+    generated columns, e.g. {C1 = [1.0, 0.3]}."""
 
     omit: list[Name] = []
     """Generated columns to leave out (by name), for grids with gaps."""
@@ -120,26 +121,26 @@ class ColumnGrid(Strict):
 class Floor(Strict):
     """A floor: its rigid slab (diaphragm) and the storey of columns beneath it."""
 
-    height: PositiveFloat
-    """Height of the storey below this floor (column length), m."""
+    height: Annotated[Real, Field(ge=0.1, le=1000.0)]
+    """Height of the storey below this floor (column length), m, 0.1 to 1000."""
 
-    repeat: Annotated[int, Field(ge=1, le=500)] = 1
+    repeat: Annotated[Count, Field(ge=1, le=500)] = 1
     """Number of identical storeys this entry stands for, stacked upwards."""
 
     slab: SlabPolygon
     """Slab outline: a convex polygon [[x, y], ...] in building coordinates, m, either
     orientation."""
 
-    mass: PositiveFloat | None = None
+    mass: Annotated[Positive, Field(le=1e12)] | None = None
     """Lumped floor mass, kg. Give this or mass_per_area."""
 
-    mass_per_area: PositiveFloat | None = None
+    mass_per_area: Annotated[Positive, Field(le=1e9)] | None = None
     """Floor mass per slab area, kg/m² (the paper uses 1000). Give this or mass."""
 
-    eccentricity: tuple[float, float] = (0.0, 0.0)
+    eccentricity: tuple[Real, Real] = (0.0, 0.0)
     """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes."""
 
-    rotational_inertia: PositiveFloat | None = None
+    rotational_inertia: Annotated[Positive, Field(le=1e18)] | None = None
     """Mass moment of inertia J about the vertical axis through the mass centre, kg·m².
     Default: that of a uniform slab of the floor's mass, m·(I_x + I_y)/A about the slab
     centroid, whatever the eccentricity (the accidental-eccentricity convention)."""
@@ -185,13 +186,13 @@ class Floor(Strict):
 class RayleighDamping(Strict):
     """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes."""
 
-    ratios: tuple[Annotated[float, Field(ge=0, lt=1)], Annotated[float, Field(ge=0, lt=1)]] = (
+    ratios: tuple[Annotated[Real, Field(ge=0, lt=1)], Annotated[Real, Field(ge=0, lt=1)]] = (
         0.05,
         0.05,
     )
     """Damping ratios [ζ_i, ζ_j], fraction of critical (0.05 = 5 %)."""
 
-    modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = (1, 3)
+    modes: tuple[Annotated[Count, Field(ge=1)], Annotated[Count, Field(ge=1)]] = (1, 3)
     """Mode numbers [i, j] (1 = longest period) where the ratios hold. Default [1, 3]:
     a symmetric building's modes 1 and 2 share one frequency and cannot anchor the fit."""
 
@@ -209,10 +210,10 @@ class Building(Strict):
     name: Name
     """Building name, unique in the model; used as the HDF5 group name."""
 
-    origin: tuple[float, float] = (0.0, 0.0)
+    origin: tuple[Real, Real] = (0.0, 0.0)
     """Global plan position [X, Y] of the building's local origin, m."""
 
-    rotation: float = 0.0
+    rotation: Real = 0.0
     """Rotation of the building's local x axis from the global X axis, degrees,
     counter-clockwise."""
 

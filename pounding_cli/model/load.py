@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import difflib
 import json
+import re
 import tomllib
 import types
 import typing
@@ -28,7 +29,7 @@ class LoadedModel:
     """A validated model and the file it came from (record paths are relative to it)."""
 
     model: PoundModel
-    source: Path
+    source: Path  # as the user named it: messages quote it so
 
     def resolve(self, relative: str) -> Path:
         """A path named in the model, resolved against the model file's folder."""
@@ -51,7 +52,8 @@ def read_document(path: str | Path) -> dict[str, Any]:
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(f"not UTF-8 text (byte {exc.start}); save the file as UTF-8", file=path) from None
+        line = raw[: exc.start].count(b"\n") + 1
+        raise InputError(f"line {line}: not UTF-8 text; save the file as UTF-8", file=path) from None
     suffix = path.suffix.lower()
     if suffix == ".json":
         try:
@@ -89,27 +91,44 @@ def validate_model(data: dict[str, Any], source: str | Path) -> LoadedModel:
         raise InputError("\n".join(_describe(source, e) for e in exc.errors())) from None
     except RecursionError:
         raise InputError("nested too deeply to be a model", file=source) from None
-    problems = [
-        f"{source}: {field}: unknown material {name!r}; defined: {', '.join(model.materials)}"
-        for field, name in model.unknown_materials()
-    ]
+    problems = [f"{source}: {field}: {message}" for field, message in model.cross_reference_problems()]
     if problems:
         raise InputError("\n".join(problems))
-    return LoadedModel(model=model, source=source.resolve())
+    return LoadedModel(model=model, source=source)
 
 
 # --- messages -------------------------------------------------------------------------
 
 
 def format_loc(loc: tuple[Any, ...]) -> str:
-    """('buildings', 0, 'floors', 2, 'mass') -> 'buildings[0].floors[2].mass'."""
+    """('buildings', 0, 'floors', 2, 'mass') -> 'buildings[0].floors[2].mass'.
+
+    Pydantic marks an invalid dict key with a trailing '[key]': ('materials', 'C30/37',
+    '[key]') -> 'materials["C30/37"]'.
+    """
     out = ""
-    for part in loc:
+    for i, part in enumerate(loc):
+        if part == "[key]":
+            continue
         if isinstance(part, int):
             out += f"[{part}]"
+        elif i + 1 < len(loc) and loc[i + 1] == "[key]":
+            out += f"[{json.dumps(part)}]"
         else:
             out += ("." if out else "") + str(part)
     return out or "(top level)"
+
+
+FRIENDLIER = {
+    "string_pattern_mismatch": "expected a name of letters, digits and _ . + - (no spaces, no slashes)",
+    "model_type": "expected a table of settings (TOML [section] or {...}, JSON object)",
+    "model_attributes_type": "expected a table of settings (TOML [section] or {...}, JSON object)",
+    "dict_type": "expected a table of settings (TOML [section] or {...}, JSON object)",
+    "float_type": "expected a number",
+    "int_type": "expected a whole number",
+    "tuple_type": "expected a list [...]",
+    "list_type": "expected a list [...]",
+}
 
 
 def _describe(source: Path, error: dict[str, Any]) -> str:
@@ -128,9 +147,11 @@ def _describe(source: Path, error: dict[str, Any]) -> str:
     if kind == "missing":
         text = "required field missing"
     else:
-        text = msg
+        text = FRIENDLIER.get(kind, msg)
         value = error.get("input")
-        if not isinstance(value, (dict, list)) or kind.startswith(("too_", "list_")):
+        if "got " in text:
+            pass  # the validator already quoted the value
+        elif not isinstance(value, (dict, list)) or kind.startswith(("too_", "list_")):
             shown = repr(value)
             if isinstance(value, (dict, list)):
                 shown = f"{type(value).__name__} of {len(value)} items"
@@ -149,12 +170,17 @@ def _description(loc: tuple[Any, ...]) -> str:
             continue
         owner = _model_at(PoundModel, loc[: cut - 1])
         if owner is not None and loc[cut - 1] in owner.model_fields:
-            desc = owner.model_fields[loc[cut - 1]].description or ""
-            first = desc.split(". ")[0].rstrip(".")
-            return " ".join(first.split())
+            desc = " ".join((owner.model_fields[loc[cut - 1]].description or "").split())
+            return _first_sentence(desc)
         if names:
             break
     return ""
+
+
+def _first_sentence(text: str) -> str:
+    """Up to the first full stop that ends a sentence (not the one in "e.g." or "i.e.")."""
+    match = re.search(r"(?<!e\.g)(?<!i\.e)\.(\s|$)", text)
+    return text[: match.start()] if match else text
 
 
 def _model_at(cls: type[BaseModel], loc: tuple[Any, ...]) -> type[BaseModel] | None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import Field, model_validator
+from pydantic import Field
 
 from .analysis import Analysis
 from .base import Strict
@@ -17,7 +17,7 @@ class PoundModel(Strict):
     """A pound model: materials, buildings, excitation and analysis settings (SI units)."""
 
     title: str = ""
-    """A one-line description of the model, shown in reports."""
+    """A one-line description of the model, printed by validate and stored with the results."""
 
     materials: Annotated[dict[Name, Material], Field(min_length=1)]
     """Materials by name, referred to by columns."""
@@ -31,23 +31,22 @@ class PoundModel(Strict):
     analysis: Analysis = Analysis()
     """Duration, time step and output interval."""
 
-    @model_validator(mode="after")
-    def _names_resolve(self) -> "PoundModel":
-        names = [b.name for b in self.buildings]
-        dup = sorted({n for n in names if names.count(n) > 1})
-        if dup:
-            raise ValueError(f"building names repeat: {', '.join(dup)}")
-        return self
-
-    def unknown_materials(self) -> list[tuple[str, str]]:
-        """(field path, material name) of every column whose material is not defined."""
+    def cross_reference_problems(self) -> list[tuple[str, str]]:
+        """(field path, message) for names that repeat or refer to nothing."""
         out = []
+        first: dict[str, int] = {}
+        for b, building in enumerate(self.buildings):
+            if building.name in first:
+                out.append((f"buildings[{b}].name", f"building name {building.name!r} is already used by "
+                            f"buildings[{first[building.name]}]; names must be unique"))  # fmt: skip
+            first.setdefault(building.name, b)
+        defined = ", ".join(self.materials)
         for b, building in enumerate(self.buildings):
             for f, floor in enumerate(building.floors):
                 path = f"buildings[{b}].floors[{f}]"
-                if floor.column_grid and floor.column_grid.material not in self.materials:
-                    out.append((f"{path}.column_grid.material", floor.column_grid.material))
-                for c, col in enumerate(floor.columns):
-                    if col.material not in self.materials:
-                        out.append((f"{path}.columns[{c}].material", col.material))
+                used = [(f"{path}.columns[{c}].material", col.material) for c, col in enumerate(floor.columns)]
+                if floor.column_grid is not None:
+                    used.insert(0, (f"{path}.column_grid.material", floor.column_grid.material))
+                out += [(field, f"unknown material {name!r}; defined: {defined}")
+                        for field, name in used if name not in self.materials]  # fmt: skip
         return out

@@ -10,6 +10,8 @@ from typing import Annotated
 
 from pydantic import AfterValidator, Field
 
+from .base import Real
+
 Point = tuple[float, float]
 
 
@@ -74,7 +76,7 @@ def convex_polygon(vertices: list[Point]) -> list[Point]:
 
 
 SlabPolygon = Annotated[
-    list[tuple[float, float]],
+    list[tuple[Real, Real]],
     Field(min_length=3, max_length=10_000),
     AfterValidator(convex_polygon),
 ]

@@ -69,7 +69,7 @@ def parse_plaintext(text: str, name: str, dt: float | None = None) -> tuple[floa
     _check_finite(table, line_numbers, name)
     if table.shape[1] == 1:
         if dt is None:
-            raise RecordReadError(f"{name}: plain text with one value per line: give 'dt'")
+            raise RecordReadError(f"{name}: plain text with one value per line: give 'dt'", field="dt")
         return dt, table[:, 0]
     return _dt_from_times(table[:, 0], line_numbers, name, dt), table[:, 1]
 
@@ -165,6 +165,7 @@ def _dt_from_times(
         return step
     if abs(dt - step) > REL_TOL * step:
         raise RecordReadError(
-            f"{name}: given dt = {dt:.9g} s disagrees with the time column's step {step:.9g} s"
+            f"{name}: given dt = {dt:.9g} s disagrees with the time column's step {step:.9g} s",
+            field="dt",
         )
     return dt

@@ -110,7 +110,7 @@ def _unit_factor(units: str) -> float:
         return UNIT_FACTORS[units.strip().lower()]
     except (KeyError, AttributeError):
         accepted = ", ".join(UNIT_FACTORS)
-        raise RecordReadError(f"unknown units {units!r}; accepted: {accepted}") from None
+        raise RecordReadError(f"unknown units {units!r}; accepted: {accepted}", field="units") from None
 
 
 def _check_dt_argument(dt: float | None) -> None:
@@ -122,7 +122,7 @@ def _check_dt_argument(dt: float | None) -> None:
     except TypeError:
         ok = False
     if not ok:
-        raise RecordReadError(f"dt must be a finite positive number of seconds, got {dt!r}")
+        raise RecordReadError(f"dt must be a finite positive number of seconds, got {dt!r}", field="dt")
 
 
 def _check_file(path: Path) -> None:
@@ -176,7 +176,8 @@ def _read_text(
     """Parse a plain-text record, which holds a single trace (``trace`` None or ``"0"``)."""
     if trace is not None and str(trace).strip() != "0":
         raise RecordReadError(
-            f"{path}: plain text holds a single trace; 'trace' = {trace!r} does not apply"
+            f"{path}: plain text holds a single trace; 'trace' = {trace!r} does not apply",
+            field="trace",
         )
     return parse_plaintext(text, str(path), dt)
 
@@ -196,7 +197,7 @@ def _obspy_read(path: Path, format: str) -> Stream | None:
         except TypeError as err:
             if auto and "unknown format" in str(err).lower():
                 return None
-            raise RecordReadError(f"{path}: obspy cannot read it as {format!r} ({err})") from err
+            raise RecordReadError(f"{path}: obspy cannot read it as {format!r} ({err})", field="format") from err
         except Exception as err:  # obspy raises many exception types for corrupt files
             reason = "; ".join([f"{type(err).__name__}: {err}"] + [str(w.message) for w in caught])
             raise RecordReadError(f"{path}: obspy failed to read it ({reason})") from err
@@ -228,7 +229,8 @@ def _select_trace(stream: Stream, trace: str | None, path: Path) -> Trace:
     if trace is None:
         if len(ids) > 1:
             raise RecordReadError(
-                f"{path}: holds {len(ids)} traces ({', '.join(ids)}); choose one with 'trace'"
+                f"{path}: holds {len(ids)} traces ({', '.join(ids)}); choose one with 'trace'",
+                field="trace",
             )
         chosen = ids[0]
     else:
@@ -249,11 +251,13 @@ def _match_trace_id(stream: Stream, ids: list[str], trace: str, path: Path) -> s
         return matches[0]
     if matches:
         raise RecordReadError(
-            f"{path}: channel {trace!r} is ambiguous: {', '.join(matches)}; give the full SEED id"
+            f"{path}: channel {trace!r} is ambiguous: {', '.join(matches)}; give the full SEED id",
+            field="trace",
         )
     raise RecordReadError(
         f"{path}: no trace matches {trace!r}; available: {', '.join(ids)} "
-        f"(give a SEED id NET.STA.LOC.CHA, a channel code or an index 0..{len(stream) - 1})"
+        f"(give a SEED id NET.STA.LOC.CHA, a channel code or an index 0..{len(stream) - 1})",
+        field="trace",
     )
 
 
@@ -278,7 +282,8 @@ def _check_dt_agrees(dt: float | None, step: float, path: Path) -> None:
     """Raise if a given ``dt`` disagrees with the file's own sample interval."""
     if dt is not None and math.isfinite(step) and abs(dt - step) > REL_TOL * abs(step):
         raise RecordReadError(
-            f"{path}: given dt = {dt:.9g} s disagrees with the file's sample interval {step:.9g} s"
+            f"{path}: given dt = {dt:.9g} s disagrees with the file's sample interval {step:.9g} s",
+            field="dt",
         )
 
 

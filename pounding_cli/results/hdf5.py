@@ -1,4 +1,5 @@
-"""Writing and reading the HDF5 result file (the layout is a contract: docs/hdf5.md).
+"""Writing and reading the HDF5 result file (the layout is a contract:
+docs/user-guide.md, "HDF5 layout").
 
 Files are written beside their final name and renamed into place only when complete, so a
 file with the final name is never half-written.
@@ -125,17 +126,19 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     floors["X"], floors["Y"] = b.mass_centre.T
     ds = g.create_dataset("floors", data=floors, track_times=False)
     ds.attrs["units"] = "-, m, kg, kg*m2, m, m"
+    ds.attrs["description"] = "X, Y: the floor's mass centre at rest, global coordinates"
     peaks = g.create_group("peaks")
     _dataset(
         peaks, "interstorey_deflection", b.interstorey_deflection, "m, m, rad",
         axes="building", description="peak |Δu_x|, |Δu_y|, |Δθ| per column and storey; NaN where absent",
     )  # fmt: skip
-    _dataset(peaks, "displacement", b.peak_displacement, "m, m, rad", axes="global")
+    _dataset(peaks, "displacement", b.peak_displacement, "m, m, rad", axes="global", reference="relative to the ground")
     _dataset(peaks, "acceleration", b.peak_acceleration, "m/s2, m/s2, rad/s2", axes="global", reference="absolute")
     modes = g.create_group("modes")
     _dataset(modes, "period", b.periods, "s")
     _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
+    modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
 
 
 def read_hdf5(path: str | Path) -> RunResult:

@@ -1,4 +1,4 @@
-"""Results of a run, per building, in the shapes of the HDF5 contract (docs/hdf5.md)."""
+"""Results of a run, per building, in the shapes of the HDF5 contract (docs/user-guide.md, "HDF5 layout")."""
 
 from __future__ import annotations
 
