@@ -159,6 +159,7 @@ def run_model(
         "contact_steps": 0,
         "n_dof": system.n_dof,
         "wall_time_s": response.wall_time,
+        "compile_time_s": response.compile_time,
         "us_per_step": 1e6 * response.wall_time / max(response.steps, 1),
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
