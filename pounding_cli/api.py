@@ -12,13 +12,24 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
 from . import __version__
-from .assembly import AUTO_DT_FRACTION, GroundMotion, System, TimeGrid, assemble, ground_motion, time_grid
+from .assembly import (
+    AUTO_DT_FRACTION,
+    ContactArrays,
+    GroundMotion,
+    System,
+    TimeGrid,
+    assemble,
+    contact_arrays,
+    ground_motion,
+    time_grid,
+)
 from .errors import InputError
 from .model import LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
@@ -35,12 +46,26 @@ def _loaded(model: str | Path | LoadedModel) -> LoadedModel:
     return model if isinstance(model, LoadedModel) else load_model(model)
 
 
-def prepare(model: str | Path | LoadedModel) -> tuple[LoadedModel, System, GroundMotion, TimeGrid]:
+@dataclass(frozen=True)
+class Scene:
+    """A model made ready to run: structure, contact candidates, ground motion, time grid."""
+
+    loaded: LoadedModel
+    system: System
+    contact: ContactArrays
+    ground: GroundMotion
+    grid: TimeGrid
+
+
+def prepare(model: str | Path | LoadedModel) -> Scene:
     """Validate, assemble, read the record and choose the time grid (no integration)."""
     loaded = _loaded(model)
     system = assemble(loaded)
+    contact = contact_arrays(loaded, system.buildings)
     ground = ground_motion(loaded)
-    grid = time_grid(loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source))
+    grid = time_grid(
+        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max
+    )
     if grid.n_steps > MAX_STEPS:
         raise InputError(
             f"the analysis would take {grid.n_steps:.3g} steps of {grid.dt:.3g} s (ω_max = "
@@ -58,7 +83,7 @@ def prepare(model: str | Path | LoadedModel) -> tuple[LoadedModel, System, Groun
             file=loaded.source,
             field="analysis.output_interval",
         )
-    return loaded, system, ground, grid
+    return Scene(loaded, system, contact, ground, grid)
 
 
 def check_output_path(path: Path) -> None:
@@ -81,7 +106,8 @@ def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
 
 def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     """What a model resolves to: masses, periods, damping, record, time step (JSON-ready)."""
-    loaded, system, ground, grid = prepare(model)
+    scene = prepare(model)
+    loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     m = loaded.model
     buildings = []
     for bld, spec in zip(system.buildings, m.buildings):
@@ -107,10 +133,29 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
             }
         )
+    contact = scene.contact
     return {
         "file": str(loaded.source),
         "title": m.title,
         "buildings": buildings,
+        "contact": {
+            "enabled": m.contact.enabled,
+            "pairs": [
+                {
+                    "body_a": p.body_a,
+                    "floor_a": p.floor_a,
+                    "body_b": p.body_b,
+                    "floor_b": p.floor_b,
+                    "elevation_m": p.elevation,
+                    "k_normal_N_per_m2": float(contact.pair_kn[i]),
+                    "k_tangential_N_per_m": float(contact.pair_kt[i]),
+                }
+                for i, p in enumerate(contact.pairs)
+            ],
+            "friction_static": m.contact.friction_static,
+            "friction_kinetic": m.contact.friction_kinetic,
+            "omega_max_rad_s": contact.omega_max,
+        },
         "excitation": {
             "record": m.excitation.record.name,
             "components": list(m.excitation.components),
@@ -129,6 +174,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "dt_auto": m.analysis.dt == "auto",
             "dt_auto_fraction": AUTO_DT_FRACTION,
             "stability_limit_s": grid.stability_limit,
+            "contact_limit_s": grid.contact_limit if scene.contact.n_pairs else None,
             "output_interval_s": grid.output_interval,
             "duration_s": grid.duration,
             "steps": grid.n_steps,
@@ -144,11 +190,15 @@ def run_model(
 ) -> RunResult:
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
     marked by its status). Check `result.complete`."""
-    loaded, system, ground, grid = prepare(model)
+    scene = prepare(model)
+    loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     if output is not None:
         check_output_path(Path(output))
     t0 = time.perf_counter()
-    response = simulate(system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress)
+    response = simulate(
+        system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
+        contact=scene.contact if scene.contact.n_pairs else None,
+    )  # fmt: skip
     diagnostics = {
         "integrator": "central difference",
         "dt": grid.dt,
@@ -156,7 +206,10 @@ def run_model(
         "stability_limit": grid.stability_limit,
         "output_interval": grid.output_interval,
         "steps": response.steps,
-        "contact_steps": 0,
+        "contact_steps": response.contact_steps,
+        "contact_pairs": scene.contact.n_pairs,
+        "impacts": response.events_total,
+        "impacts_logged": int(response.events.shape[0]),
         "n_dof": system.n_dof,
         "wall_time_s": response.wall_time,
         "compile_time_s": response.compile_time,
@@ -164,7 +217,9 @@ def run_model(
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }
-    result = collect(system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics)
+    result = collect(
+        system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics, scene.contact
+    )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     if output is not None:
         write_hdf5(result, output)

@@ -7,6 +7,7 @@ Exit codes: 0 success; 1 the analysis ran but failed (partial results kept and m
 from __future__ import annotations
 
 import json
+import os
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -19,7 +20,7 @@ from rich.table import Table
 from . import __version__
 from .errors import PoundError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True)
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
 out = Console(highlight=False)
 err = Console(stderr=True, highlight=False)
 
@@ -37,6 +38,15 @@ def reported() -> Iterator[None]:
         raise typer.Exit(exc.exit_code) from None
     except KeyboardInterrupt:
         err.print("interrupted", markup=False)
+        raise typer.Exit(1) from None
+    except Exception as exc:  # a bug in pound: say so in one paragraph, keep details on demand
+        if os.environ.get("POUND_DEBUG"):
+            raise
+        err.print(
+            f"internal error: {type(exc).__name__}: {exc}. This is a bug in pound; please report "
+            "it with the model file (set POUND_DEBUG=1 to see the traceback).",
+            markup=False,
+        )
         raise typer.Exit(1) from None
 
 
@@ -191,6 +201,9 @@ def run_summary(result: Any) -> dict[str, Any]:
         "solver_wall_time_s": d.get("wall_time_s"),
         "us_per_step": d.get("us_per_step"),
         "energy_balance_error": result.balance_error_ratio,
+        "impacts": result.contact.impact_count,
+        "peak_impact_force_N": result.contact.peak_force,
+        "contact_steps": d.get("contact_steps", 0),
         "buildings": buildings,
     }
 
@@ -203,6 +216,11 @@ def _print_summary(s: dict[str, Any]) -> None:
         f"energy balance error {100 * s['energy_balance_error']:.3g} % of input",
         markup=False,
     )
+    out.print(
+        f"impacts: {s['impacts']}" + (f", peak normal force {s['peak_impact_force_N'] / 1e3:.4g} kN, "
+        f"{s['contact_steps']} steps in contact" if s["impacts"] else ""),
+        markup=False,
+    )  # fmt: skip
     table = Table(title="Peak interstorey deflection (building axes)")
     for col in ("building", "x (mm)", "y (mm)", "θ (mrad)"):
         table.add_column(col)
@@ -234,6 +252,20 @@ def _print_description(info: dict[str, Any]) -> None:
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
             markup=False,
         )
+    c = info["contact"]
+    if not c["enabled"]:
+        out.print("contact: off", markup=False)
+    elif not c["pairs"]:
+        out.print("contact: no floors share a level, so nothing can touch", markup=False)
+    else:
+        kn = sorted({p["k_normal_N_per_m2"] for p in c["pairs"]})
+        kt = sorted({p["k_tangential_N_per_m"] for p in c["pairs"]})
+        out.print(
+            f"contact: {len(c['pairs'])} candidate pairs; k_N = {', '.join(f'{k / 1e3:.4g}' for k in kn)} kN/m², "
+            f"k_T = {', '.join(f'{k / 1e3:.4g}' for k in kt)} kN/m; μ_s = {c['friction_static']:g}, "
+            f"μ_k = {c['friction_kinetic']:g}",
+            markup=False,
+        )
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
@@ -245,8 +277,11 @@ def _print_description(info: dict[str, Any]) -> None:
         out.print(f"  note: {note}", markup=False)
     a = info["analysis"]
     how = f"auto: {a['dt_auto_fraction']:g} × 2/ω_max" if a["dt_auto"] else "given"
+    limits = f"stability limit {a['stability_limit_s']:.4g} s"
+    if a.get("contact_limit_s"):
+        limits += f", contact {a['contact_limit_s']:.4g} s"
     out.print(
-        f"analysis: Δt = {a['dt_s']:.4g} s ({how}; stability limit {a['stability_limit_s']:.4g} s), "
+        f"analysis: Δt = {a['dt_s']:.4g} s ({how}; {limits}), "
         f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
         markup=False,
     )

@@ -101,7 +101,7 @@ def test_diverged_run_is_written_and_marked(tmp_path, monkeypatch):
     from pounding_cli import api
     from pounding_cli.assembly import TimeGrid
 
-    def beyond_the_limit(analysis, omega_max, duration, source):
+    def beyond_the_limit(analysis, omega_max, duration, source, omega_contact=0.0):
         limit = 2 / omega_max
         return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
 

@@ -1,6 +1,7 @@
 """Turns a validated model into plain arrays: M, K, Rayleigh C, modes, ground motion, Δt."""
 
 from .building import BuildingArrays, ColumnLine, ColumnInstance
+from .contact import ContactArrays, PairInfo, contact_arrays, impact_stiffness
 from .ground import GroundMotion, ground_motion
 from .system import System, assemble
 from .timestep import AUTO_DT_FRACTION, TimeGrid, time_grid
@@ -10,10 +11,14 @@ __all__ = [
     "BuildingArrays",
     "ColumnInstance",
     "ColumnLine",
+    "ContactArrays",
     "GroundMotion",
+    "PairInfo",
     "System",
     "TimeGrid",
     "assemble",
+    "contact_arrays",
     "ground_motion",
+    "impact_stiffness",
     "time_grid",
 ]

@@ -2,6 +2,7 @@
 
 from .analysis import Analysis
 from .building import Building, Column, ColumnGrid, Floor, RayleighDamping
+from .contact import Contact, Obstacle
 from .excitation import Excitation, Record, RecordComponent
 from .load import LoadedModel, load_model, read_document, validate_model
 from .material import Material
@@ -12,10 +13,12 @@ __all__ = [
     "Building",
     "Column",
     "ColumnGrid",
+    "Contact",
     "Excitation",
     "Floor",
     "LoadedModel",
     "Material",
+    "Obstacle",
     "PoundModel",
     "RayleighDamping",
     "Record",

@@ -20,6 +20,9 @@ Positive = Annotated[float, StrictType(), Field(gt=0)]
 Count = Annotated[int, StrictType()]
 """An integer (booleans and strings are not)."""
 
+Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
+"""A name used in paths and HDF5 groups: letters, digits and _ . + -."""
+
 
 class Strict(BaseModel):
     """Base of all input models: strict keys, finite numbers, documented fields."""

@@ -9,12 +9,11 @@ from typing import Annotated
 
 from pydantic import Field, field_validator, model_validator
 
-from .base import Count, Positive, Real, Strict
+from .base import Count, Name, Positive, Real, Strict
 from .slab import SlabPolygon
 
 Width = Annotated[Real, Field(ge=0.001, le=50.0)]
 Section = tuple[Width, Width]
-Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
 
 
 class Column(Strict):
@@ -223,6 +222,10 @@ class Building(Strict):
     damping: RayleighDamping = RayleighDamping()
     """Rayleigh damping of this building."""
 
+    slab_material: Name | None = None
+    """Material of the floor slabs in [materials], for "auto" impact stiffness. Default:
+    the columns' material when they all share one."""
+
     @model_validator(mode="after")
     def _column_lines_keep_position(self) -> "Building":
         seen: dict[str, tuple[float, float, int]] = {}
@@ -239,6 +242,13 @@ class Building(Strict):
                 else:
                     seen[c.name] = (c.x, c.y, k)
         return self
+
+    def slab_material_name(self) -> str | None:
+        """The slab material: given, or the one material all columns share (else None)."""
+        if self.slab_material is not None:
+            return self.slab_material
+        used = {c.material for floor in self.floors for c in floor.all_columns()}
+        return used.pop() if len(used) == 1 else None
 
     def storeys(self) -> list[Floor]:
         """The floors with `repeat` expanded: one entry per storey, bottom up."""

@@ -8,7 +8,9 @@ from pydantic import Field
 
 from .analysis import Analysis
 from .base import Strict
-from .building import Building, Name
+from .base import Name
+from .building import Building
+from .contact import Contact, Obstacle
 from .excitation import Excitation
 from .material import Material
 
@@ -31,15 +33,23 @@ class PoundModel(Strict):
     analysis: Analysis = Analysis()
     """Duration, time step and output interval."""
 
+    contact: Contact = Contact()
+    """Pounding: impact stiffness, friction, dashpots."""
+
+    obstacles: Annotated[list[Obstacle], Field(max_length=10_000)] = []
+    """Fixed rigid bodies that floors can hit (walls, moat walls)."""
+
     def cross_reference_problems(self) -> list[tuple[str, str]]:
         """(field path, message) for names that repeat or refer to nothing."""
         out = []
-        first: dict[str, int] = {}
-        for b, building in enumerate(self.buildings):
-            if building.name in first:
-                out.append((f"buildings[{b}].name", f"building name {building.name!r} is already used by "
-                            f"buildings[{first[building.name]}]; names must be unique"))  # fmt: skip
-            first.setdefault(building.name, b)
+        first: dict[str, str] = {}
+        bodies = [(f"buildings[{b}]", x.name) for b, x in enumerate(self.buildings)]
+        bodies += [(f"obstacles[{o}]", x.name) for o, x in enumerate(self.obstacles)]
+        for path, name in bodies:
+            if name in first:
+                out.append((f"{path}.name", f"name {name!r} is already used by {first[name]}; "
+                            "building and obstacle names must be unique"))  # fmt: skip
+            first.setdefault(name, path)
         defined = ", ".join(self.materials)
         for b, building in enumerate(self.buildings):
             for f, floor in enumerate(building.floors):
@@ -49,4 +59,10 @@ class PoundModel(Strict):
                     used.insert(0, (f"{path}.column_grid.material", floor.column_grid.material))
                 out += [(field, f"unknown material {name!r}; defined: {defined}")
                         for field, name in used if name not in self.materials]  # fmt: skip
+            if building.slab_material is not None and building.slab_material not in self.materials:
+                out.append((f"buildings[{b}].slab_material", f"unknown material {building.slab_material!r}; "
+                            f"defined: {defined}"))  # fmt: skip
+        for o, obstacle in enumerate(self.obstacles):
+            if obstacle.material not in self.materials:
+                out.append((f"obstacles[{o}].material", f"unknown material {obstacle.material!r}; defined: {defined}"))
         return out

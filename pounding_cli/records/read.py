@@ -97,9 +97,17 @@ def read_accelerogram(
     _check_file(path)
     if format.lower() == "text":
         step, values = _read_text(_decode(path), path, trace, dt)
-        source, start_time = str(path), None
+        source, start_time, declared = str(path), None, None
     else:
-        step, values, source, start_time = _read_obspy_or_text(path, trace, format, dt)
+        step, values, source, start_time, declared = _read_obspy_or_text(path, trace, format, dt)
+    if declared is not None:  # a self-describing format, already converted to m/s² by its reader
+        if factor not in (1.0, UNIT_FACTORS.get(declared.strip().lower().replace(" ", ""), None)):
+            raise RecordReadError(
+                f"{path}: the file declares its values in {declared} (pound converts them to m/s²); "
+                f"'units' = {units!r} contradicts it: write {declared!r} or 'm/s2'",
+                field="units",
+            )
+        factor = 1.0
     _check_samples(step, values, path)
     return Accelerogram(step, values * factor, source, start_time)
 
@@ -148,7 +156,7 @@ def _decode(path: Path) -> str:
 
 def _read_obspy_or_text(
     path: Path, trace: str | None, format: str, dt: float | None
-) -> tuple[float, np.ndarray, str, str | None]:
+) -> tuple[float, np.ndarray, str, str | None, str | None]:
     """Read with obspy; with ``format='auto'`` fall back to plain text if obspy does not know it."""
     stream = _obspy_read(path, format)
     if stream is None:
@@ -159,7 +167,7 @@ def _read_obspy_or_text(
                 f"{path}: neither a format obspy reads nor plain text ({err.reason})"
             ) from err
         step, values = _read_text(text, path, trace, dt)
-        return step, values, str(path), None
+        return step, values, str(path), None, None
     selected = _select_trace(stream, trace, path)
     step = float(selected.stats.delta)
     _check_dt_agrees(dt, step, path)
@@ -167,7 +175,17 @@ def _read_obspy_or_text(
         values = np.asarray(selected.data, dtype=np.float64)
     except (TypeError, ValueError) as err:
         raise RecordReadError(f"{path}: {selected.id} does not hold real numbers ({err})") from err
-    return step, values, f"{path} [{selected.id}]", str(selected.stats.starttime)
+    return step, values, f"{path} [{selected.id}]", str(selected.stats.starttime), _declared_units(selected)
+
+
+def _declared_units(trace: Trace) -> str | None:
+    """The file's own units when pound's plugin reader (AT2, COSMOS) already converted the
+    data to SI; None for formats that carry raw values (MiniSEED, SAC, ...)."""
+    for key in ("at2", "cosmos"):
+        info = trace.stats.get(key)
+        if info is not None and info.get("units") == "m/s2":
+            return str(info.get("units_in_file"))
+    return None
 
 
 def _read_text(

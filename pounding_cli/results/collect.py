@@ -6,9 +6,10 @@ from typing import Any
 
 import numpy as np
 
-from ..assembly import BuildingArrays, System
+from ..assembly import BuildingArrays, ContactArrays, System
 from ..solver import Response
-from .result import BuildingResult, RunResult
+from ..solver import contact as kernel
+from .result import EVENT_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult
 
 
 def building_result(system: System, b: int, response: Response, column_offset: int) -> BuildingResult:
@@ -45,12 +46,41 @@ def building_result(system: System, b: int, response: Response, column_offset: i
     )
 
 
+def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
+    """Contact histories and the impact log, with the pairs named."""
+    pairs = np.zeros(contact.n_pairs, PAIR_DTYPE)
+    for p, info in enumerate(contact.pairs):
+        pairs[p] = (info.body_a, info.floor_a, info.body_b, info.floor_b, info.elevation,
+                    contact.pair_kn[p], contact.pair_kt[p])  # fmt: skip
+    h = response.contact
+    raw = response.events
+    events = np.zeros(raw.shape[0], EVENT_DTYPE)
+    for k, row in enumerate(raw):
+        info = contact.pairs[int(row[kernel.EV_PAIR])]
+        events[k] = (
+            info.body_a, info.body_b, info.floor_a, row[kernel.EV_T_START], row[kernel.EV_T_END],
+            row[kernel.EV_PEAK_FN], row[kernel.EV_IMPULSE], row[kernel.EV_PEAK_AREA], row[kernel.EV_PEAK_DEPTH],
+            row[kernel.EV_X], row[kernel.EV_Y], bool(row[kernel.EV_SLID]), info.floor_b, info.elevation,
+            row[kernel.EV_T_PEAK], int(row[kernel.EV_PAIR]),
+        )  # fmt: skip
+    return ContactResult(
+        pairs=pairs,
+        normal_force=h[:, :, kernel.NOW_FN],
+        tangential_force=h[:, :, kernel.NOW_FT],
+        area=h[:, :, kernel.NOW_AREA],
+        action_point=h[:, :, [kernel.NOW_X, kernel.NOW_Y]],
+        depth=h[:, :, kernel.NOW_DEPTH],
+        events=events,
+    )
+
+
 def collect(
     system: System,
     response: Response,
     model_json: str,
     input_sha256: str,
     diagnostics: dict[str, Any],
+    contact: ContactArrays | None = None,
 ) -> RunResult:
     """Assemble a RunResult from the solver's response."""
     buildings = {}
@@ -67,4 +97,5 @@ def collect(
         model_json=model_json,
         input_sha256=input_sha256,
         diagnostics=diagnostics,
+        contact=contact_result(contact, response) if contact is not None and contact.n_pairs else None,
     )

@@ -15,25 +15,16 @@ from typing import Any
 import h5py
 import numpy as np
 
-from .result import ENERGY_NAMES, BuildingResult, RunResult
+from .result import ENERGY_NAMES, EVENT_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult
 
-EVENT_DTYPE = np.dtype(
-    [
-        ("body_a", h5py.string_dtype()),
-        ("body_b", h5py.string_dtype()),
-        ("level", np.int64),
-        ("t_start", np.float64),
-        ("t_end", np.float64),
-        ("peak_normal_force", np.float64),
-        ("normal_impulse", np.float64),
-        ("peak_area", np.float64),
-        ("peak_depth", np.float64),
-        ("x", np.float64),
-        ("y", np.float64),
-        ("slid", np.bool_),
-    ]
-)
-EVENT_UNITS = "-, -, -, s, s, N, N·s, m², m, m, m, -"
+EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -"
+PAIR_UNITS = "-, -, -, -, m, N/m2, N/m"
+
+
+def h5_dtype(dtype: np.dtype) -> np.dtype:
+    """The dtype of a table with its Python-string (object) fields as HDF5 strings."""
+    return np.dtype([(name, h5py.string_dtype() if dtype[name] == object else dtype[name]) for name in dtype.names])
+
 
 COLUMN_DTYPE = np.dtype(
     [
@@ -96,13 +87,30 @@ def _write(f: h5py.File, r: RunResult) -> None:
     buildings = f.create_group("buildings", track_order=True)
     for name, b in r.buildings.items():
         _write_building(buildings.create_group(name), b)
-    impacts = f.create_group("impacts")
-    events = impacts.create_dataset("events", shape=(0,), dtype=EVENT_DTYPE, maxshape=(None,), track_times=False)
-    events.attrs["units"] = EVENT_UNITS
+    _write_contact(f.create_group("impacts"), r.contact)
     _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
     diag = f.create_group("diagnostics")
     for key, value in r.diagnostics.items():
         diag.attrs[key] = value
+
+
+def _write_contact(g: h5py.Group, c: ContactResult) -> None:
+    events = g.create_dataset("events", data=c.events.astype(h5_dtype(EVENT_DTYPE)), track_times=False)
+    events.attrs["units"] = EVENT_UNITS
+    events.attrs["description"] = (
+        "one row per contact episode; level, floor_b: floors (1-based) of body A's and body B's "
+        "buildings, floor_b 0 for an obstacle; x, y: action point at the peak force (global); "
+        "t_end NaN when the contact lasted to the end"
+    )
+    pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
+    pairs.attrs["units"] = PAIR_UNITS
+    pairs.attrs["description"] = "contact candidates: the columns of the contact histories"
+    common = dict(sampling="output interval; peaks and the impact log use every step")
+    _dataset(g, "normal_force", c.normal_force, "N", **common)
+    _dataset(g, "tangential_force", c.tangential_force, "N", direction="t = z x n, on body B", **common)
+    _dataset(g, "area", c.area, "m2", **common)
+    _dataset(g, "depth", c.depth, "m", **common)
+    _dataset(g, "action_point", c.action_point, "m", axes="global", **common)
 
 
 def _write_building(g: h5py.Group, b: BuildingResult) -> None:
@@ -156,7 +164,28 @@ def read_hdf5(path: str | Path) -> RunResult:
             input_sha256=str(f.attrs["input_sha256"]),
             diagnostics={k: _plain(v) for k, v in f["diagnostics"].attrs.items()},
             output=path,
+            contact=_read_contact(f["impacts"]),
         )
+
+
+def _read_contact(g: h5py.Group) -> ContactResult:
+    def table(name: str, dtype: np.dtype) -> np.ndarray:
+        raw = g[name][()]
+        out = np.zeros(raw.shape, dtype)
+        for field in dtype.names:
+            column = raw[field]
+            out[field] = [v.decode() for v in column] if dtype[field] == object else column
+        return out
+
+    return ContactResult(
+        pairs=table("pairs", PAIR_DTYPE),
+        normal_force=g["normal_force"][()],
+        tangential_force=g["tangential_force"][()],
+        area=g["area"][()],
+        action_point=g["action_point"][()],
+        depth=g["depth"][()],
+        events=table("events", EVENT_DTYPE),
+    )
 
 
 def _read_building(g: h5py.Group) -> BuildingResult:

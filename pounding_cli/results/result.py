@@ -42,6 +42,71 @@ class BuildingResult:
             raise KeyError(f"building {self.name!r} has no column {name!r}") from None
 
 
+EVENT_DTYPE = np.dtype(
+    [
+        ("body_a", object),
+        ("body_b", object),
+        ("level", np.int64),
+        ("t_start", np.float64),
+        ("t_end", np.float64),
+        ("peak_normal_force", np.float64),
+        ("normal_impulse", np.float64),
+        ("peak_area", np.float64),
+        ("peak_depth", np.float64),
+        ("x", np.float64),
+        ("y", np.float64),
+        ("slid", np.bool_),
+        ("floor_b", np.int64),
+        ("elevation", np.float64),
+        ("t_peak", np.float64),
+        ("pair", np.int64),
+    ]
+)
+"""One row per contact episode. level / floor_b: 1-based floors of body A's and body B's
+buildings (floor_b 0 for an obstacle); t_end NaN if the contact lasted to the end; x, y the
+action point (global, m) at the peak normal force, at time t_peak."""
+
+PAIR_DTYPE = np.dtype(
+    [
+        ("body_a", object),
+        ("floor_a", np.int64),
+        ("body_b", object),
+        ("floor_b", np.int64),
+        ("elevation", np.float64),
+        ("k_normal", np.float64),
+        ("k_tangential", np.float64),
+    ]
+)
+"""One row per contact candidate pair (the columns of the contact histories)."""
+
+
+@dataclass
+class ContactResult:
+    """Contact candidates, their force histories at the output interval and the impact log."""
+
+    pairs: np.ndarray  # (n_pairs,) PAIR_DTYPE
+    normal_force: np.ndarray  # (nt, n_pairs) N
+    tangential_force: np.ndarray  # (nt, n_pairs) N, along t = ẑ × n, on body B
+    area: np.ndarray  # (nt, n_pairs) m²
+    action_point: np.ndarray  # (nt, n_pairs, 2) global, m (0 when apart)
+    depth: np.ndarray  # (nt, n_pairs) m
+    events: np.ndarray  # (n_events,) EVENT_DTYPE
+
+    @classmethod
+    def empty(cls, nt: int) -> "ContactResult":
+        z = np.zeros((nt, 0))
+        return cls(np.zeros(0, PAIR_DTYPE), z, z, z, np.zeros((nt, 0, 2)), z, np.zeros(0, EVENT_DTYPE))
+
+    @property
+    def impact_count(self) -> int:
+        return int(self.events.size)
+
+    @property
+    def peak_force(self) -> float:
+        """Largest normal impact force of the run, N (0 without impacts)."""
+        return float(self.events["peak_normal_force"].max(initial=0.0))
+
+
 @dataclass
 class RunResult:
     """A whole run: time histories at the output interval, peaks over every step."""
@@ -55,6 +120,11 @@ class RunResult:
     input_sha256: str
     diagnostics: dict[str, Any] = field(default_factory=dict)
     output: Path | None = None  # the HDF5 file, once written
+    contact: ContactResult | None = None
+
+    def __post_init__(self) -> None:
+        if self.contact is None:
+            self.contact = ContactResult.empty(self.time.size)
 
     @property
     def complete(self) -> bool:

@@ -13,10 +13,12 @@ building and computed once. One storey mat-vec per step, z = K·v_{n+½}, serves
 damping force C·v_{n+½} and the update K·u_{n+1} = K·u_n + Δt·z; K·u is recomputed exactly
 at every output step so rounding cannot accumulate.
 
-Energy (relative-motion form): E_input = ∫ v·p dt and E_damping = ∫ v·C·v dt by the
-trapezoidal rule over the central-difference velocities v_n (C·v_n = ½(C·v_{n−½} + C·v_{n+½})
-since C is linear); E_kinetic = ½ v_nᵀM v_n, E_strain = ½ u_nᵀK u_n. The balance error
-E_input − (E_k + E_s + E_d) is O(Δt²).
+Contact forces (contact.py) are explicit: computed from u_n and v_{n−½}, they join p_n.
+
+Energy (relative-motion form): E_input = ∫ v·p dt, E_damping = ∫ v·C·v dt and E_contact =
+−∫ v·F_contact dt by the trapezoidal rule over the central-difference velocities v_n
+(C·v_n = ½(C·v_{n−½} + C·v_{n+½}) since C is linear); E_kinetic = ½ v_nᵀM v_n, E_strain =
+½ u_nᵀK u_n. The balance error E_input − (E_k + E_s + E_d + E_c) is O(Δt²).
 
 State vectors hold n_dof + 3 entries: the last three are the ground, an extra floor whose
 DOFs stay zero and which is the bottom floor of every ground storey, so no storey is a
@@ -28,12 +30,16 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .contact import contact_forces
+
 # energy columns, in the order of the HDF5 /energy dataset
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = range(7)
 ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact", "balance_error")
 
-# accumulators carried between calls: input energy, damping energy, last powers
-ACC_INPUT, ACC_DAMPING, ACC_P_INPUT, ACC_P_DAMPING = range(4)
+# accumulators carried between calls: input, damping and contact energy, their last powers,
+# and the number of steps with a contact
+ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS = range(7)
+N_ACC = 7
 
 STATUS_OK, STATUS_DIVERGED = 0, 1
 
@@ -141,9 +147,11 @@ def advance(
     # peaks
     peak_col, peak_rot, peak_disp, peak_acc,
     # outputs at every `stride` steps
-    out_u, out_v, out_a, out_ground, out_energy,
+    out_u, out_v, out_a, out_ground, out_energy, out_contact,
     # work arrays (n_dof + 3 each, and n_storeys × 3)
     r, dv, v, a_abs, z, cv_next, storey_work,
+    # contact: tuples of arrays (see contact.contact_forces), pair state, impact log, buffers
+    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
 ):
     """Advance steps n_start … n_stop − 1; returns (status, last step done + 1)."""
     n_dof = mass.size
@@ -152,13 +160,20 @@ def advance(
         # 1. ground input at t_n
         agx, agy = ground_at(n * dt, ground, ground_dt)
         # 2. internal forces K·u_n and C·v_{n-1/2} are carried in ku, cv_half
-        # 3. (contact forces: none yet)
+        # 3. contact forces from the displaced outlines (broad phase, narrow phase, impact law)
+        fc[:] = 0.0
+        if params[0].size > 0:
+            for d in range(n_dof):  # v_n ≈ v_{n-1/2} + Δv_{n-1}/2 (dv still holds the last step's)
+                v_est[d] = v_half[d] + 0.5 * dv[d]
+            if contact_forces(n, dt, u, v_half, v_est, geometry, params, pair_state, pair_now, events, n_events,
+                              fc, cbuf[0], cbuf[1], cbuf[2], cbuf[3], cbuf[4], cbuf[5], cbuf[6]) > 0:  # fmt: skip
+                acc[ACC_CONTACT_STEPS] += 1.0
         # 4. residual and velocity increment
         for f in range(n_floors):
             d = 3 * f
-            r[d] = -mass[d] * agx - ku[d] - cv_half[d]
-            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1]
-            r[d + 2] = -ku[d + 2] - cv_half[d + 2]
+            r[d] = -mass[d] * agx - ku[d] - cv_half[d] + fc[d]
+            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1] + fc[d + 1]
+            r[d + 2] = -ku[d + 2] - cv_half[d + 2] + fc[d + 2]
         solve_blocks(binv, dof_start, dof_count, r, dv)
         # 5. state at t_n: central-difference velocity, absolute acceleration
         for d in range(n_dof):
@@ -172,18 +187,22 @@ def advance(
             v_half[d] += dv[d]
         storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
         damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_next)
-        # 7. energy: trapezoidal input and damping work
+        # 7. energy: trapezoidal input, damping and contact work
         p_in = 0.0
         p_damp = 0.0
+        p_contact = 0.0
         for f in range(n_floors):
             p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
         for d in range(n_dof):
             p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
+            p_contact -= fc[d] * v[d]
         if n > 0:
             acc[ACC_INPUT] += 0.5 * dt * (acc[ACC_P_INPUT] + p_in)
             acc[ACC_DAMPING] += 0.5 * dt * (acc[ACC_P_DAMPING] + p_damp)
+            acc[ACC_CONTACT] += 0.5 * dt * (acc[ACC_P_CONTACT] + p_contact)
         acc[ACC_P_INPUT] = p_in
         acc[ACC_P_DAMPING] = p_damp
+        acc[ACC_P_CONTACT] = p_contact
         # 8. peaks at every step
         update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
                      col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
@@ -210,8 +229,11 @@ def advance(
             out_energy[k, E_STRAIN] = e_str
             out_energy[k, E_DAMPING] = acc[ACC_DAMPING]
             out_energy[k, E_HYSTERETIC] = 0.0
-            out_energy[k, E_CONTACT] = 0.0
-            out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING])
+            out_energy[k, E_CONTACT] = acc[ACC_CONTACT]
+            out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING] + acc[ACC_CONTACT])
+            for p in range(pair_now.shape[0]):
+                for c in range(pair_now.shape[1]):
+                    out_contact[k, p, c] = pair_now[p, c]
             if not worst <= u_limit:
                 return STATUS_DIVERGED, n + 1
         # 10. update to t_{n+1} (the ground entries stay zero)

@@ -14,6 +14,7 @@ from typing import Callable, Protocol
 import numpy as np
 
 from . import cdm
+from . import contact as contact_kernel
 
 DIVERGENCE_LIMIT = 100.0
 """A relative displacement beyond this many metres means the run has diverged."""
@@ -35,6 +36,45 @@ class StructureArrays(Protocol):
     column_plan: np.ndarray
 
 
+class ContactData(Protocol):
+    """What the solver needs of the contact candidates (see pounding_cli.assembly.contact)."""
+
+    body_poly: np.ndarray
+    body_nv: np.ndarray
+    body_floor: np.ndarray
+    body_centre: np.ndarray
+    body_radius: np.ndarray
+    pair_a: np.ndarray
+    pair_b: np.ndarray
+    pair_kn: np.ndarray
+    pair_kt: np.ndarray
+    pair_mu_s: np.ndarray
+    pair_mu_k: np.ndarray
+    pair_cn: np.ndarray
+    pair_zeta: np.ndarray
+    pair_ct: np.ndarray
+    pair_meff: np.ndarray
+
+
+class NoContact:
+    """No candidate pairs: the contact phase of the step costs nothing."""
+
+    def __init__(self) -> None:
+        self.body_poly = np.zeros((1, 3, 2))
+        self.body_nv = np.zeros(1, dtype=np.int64)
+        self.body_floor = np.zeros(1, dtype=np.int64)
+        self.body_centre = np.zeros((1, 2))
+        self.body_radius = np.zeros(1)
+        self.pair_a = np.zeros(0, dtype=np.int64)
+        self.pair_b = np.zeros(0, dtype=np.int64)
+        for name in ("kn", "kt", "mu_s", "mu_k", "cn", "zeta", "ct", "meff"):
+            setattr(self, f"pair_{name}", np.zeros(0))
+
+
+MAX_EVENTS = 200_000
+"""Contact episodes logged at most; more are counted but not stored."""
+
+
 @dataclass
 class Response:
     """What a run produced. Histories are at the output interval, peaks over every step."""
@@ -49,6 +89,10 @@ class Response:
     peak_storey_rotation: np.ndarray  # (n_storeys,) peak |Δθ|, rad
     peak_displacement: np.ndarray  # (n_dof,) peak |u|
     peak_acceleration: np.ndarray  # (n_dof,) peak absolute |a|
+    contact: np.ndarray  # (n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS
+    events: np.ndarray  # (n_events, contact.EV_COLUMNS) impact log rows
+    events_total: int  # episodes, including any beyond MAX_EVENTS
+    contact_steps: int  # steps in which some pair was in contact
     dt: float
     steps: int  # steps done
     wall_time: float  # s, time loop only
@@ -105,8 +149,14 @@ def simulate(
     n_steps: int,
     progress: Callable[[int, int], None] | None = None,
     chunk: int = 20_000,
+    contact: ContactData | None = None,
+    initial_velocity: np.ndarray | None = None,
 ) -> Response:
-    """Integrate from rest over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt."""
+    """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
+
+    The structure starts undeformed, at rest or with `initial_velocity` (n_dof,) relative to
+    the ground, and out of contact.
+    """
     n_dof = structure.mass.size
     n_storeys = structure.storey_k.shape[0]
     n_out = n_steps // stride + 1
@@ -115,20 +165,43 @@ def simulate(
     centre, col_arm = peak_geometry(structure)
     u = np.zeros(n_dof + 3)
     ku = np.zeros(n_dof + 3)
-    # v_{-1/2} = v_0 − Δt/2·a_0 with a_0 = −ι·a_g(0) from rest (classical CDM start)
-    v_half = np.zeros(n_dof + 3)
-    v_half[0:n_dof:3] = 0.5 * dt * ground[0, 0]
-    v_half[1:n_dof:3] = 0.5 * dt * ground[0, 1]
+    # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
+    v0 = np.zeros(n_dof + 3)
+    if initial_velocity is not None:
+        v0[:n_dof] = initial_velocity
+    c_v0 = np.zeros(n_dof + 3)
+    cdm.damping_force(v0, stiffness_times(structure, v0), structure.mass, structure.dof_a0,
+                      structure.dof_a1, n_dof, c_v0)  # fmt: skip
+    a0 = np.zeros(n_dof + 3)
+    a0[0:n_dof:3] = -ground[0, 0]
+    a0[1:n_dof:3] = -ground[0, 1]
+    a0[:n_dof] -= c_v0[:n_dof] / structure.mass
+    v_half = v0 - 0.5 * dt * a0
+    v_half[n_dof:] = 0.0
     cv_half = np.zeros(n_dof + 3)
     cdm.damping_force(v_half, stiffness_times(structure, v_half), structure.mass, structure.dof_a0,
                       structure.dof_a1, n_dof, cv_half)  # fmt: skip
-    acc = np.zeros(4)
+    acc = np.zeros(cdm.N_ACC)
+    acc[cdm.ACC_INPUT] = 0.5 * float(np.sum(structure.mass * v0[:n_dof] ** 2))  # an initial motion's energy
     n_col = structure.column_storey.size
     peaks = (np.zeros((n_col, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
     outs = [np.full((n_out, n_dof), np.nan) for _ in range(3)]
     out_ground = np.full((n_out, 2), np.nan)
     out_energy = np.full((n_out, 7), np.nan)
     work = [np.zeros(n_dof + 3) for _ in range(6)] + [np.zeros((n_storeys, 3))]
+    c = contact if contact is not None else NoContact()
+    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius)
+    params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
+              c.pair_ct, c.pair_meff)  # fmt: skip
+    n_pairs = c.pair_a.size
+    pair_state = np.zeros((n_pairs, 4))
+    pair_now = np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS)))
+    out_contact = np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan)
+    events = np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS))
+    n_events = np.zeros(1, dtype=np.int64)
+    fc = np.zeros(n_dof + 3)
+    v_est = np.zeros(n_dof + 3)
+    cbuf = contact_kernel.buffers(int(c.body_poly.shape[1]))
     chunk = max(stride, chunk - chunk % stride)
 
     def advance(start: int, stop: int) -> tuple[int, int]:
@@ -138,7 +211,8 @@ def simulate(
             structure.storey_top, binv, starts, counts,
             ground, ground_dt,
             structure.storey_axes, centre, structure.column_storey, col_arm,
-            u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, *work,
+            u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, out_contact, *work,
+            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
         )  # fmt: skip
 
     t0 = time.perf_counter()
@@ -181,6 +255,10 @@ def simulate(
         peak_storey_rotation=peaks[1],
         peak_displacement=peaks[2],
         peak_acceleration=peaks[3],
+        contact=out_contact[cut],
+        events=events[: min(int(n_events[0]), events.shape[0])].copy() if n_pairs else events[:0].copy(),
+        events_total=int(n_events[0]),
+        contact_steps=int(acc[cdm.ACC_CONTACT_STEPS]),
         dt=dt,
         steps=min(done, n_steps),
         wall_time=wall,

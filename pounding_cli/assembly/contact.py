@@ -1,0 +1,232 @@
+"""Contact candidates as arrays: the bodies that can touch, the pairs at one level, and the
+impact parameters of each pair (paper eqs. 6–9, eq. 8 corrected).
+
+Bodies are numbered floors first (body f is global floor f), then obstacles. Body A of a
+pair is the floor of the building listed first; body B the other floor, or the obstacle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import LoadedModel, Material
+from .building import BuildingArrays
+from .polygon import polygon_centroid
+
+LEVEL_TOLERANCE = 1e-3
+"""Floors (and obstacles) whose elevations differ by less than this (m) are at one level."""
+
+
+def dynamic_modulus(e_static: float) -> float:
+    """Dynamic modulus of concrete, eq. (7): E_dyn = 5.82·E_st^0.63 with both in GPa; Pa here."""
+    return 5.82e9 * (e_static / 1e9) ** 0.63
+
+
+def impact_stiffness(a: Material, b: Material) -> tuple[float, float]:
+    """(k_N [N/m² of overlap area], k_T [N/m]) from two materials, eqs. (6)–(9).
+
+    k_N = [(1−ν₁²)/E_dyn,1 + (1−ν₂²)/E_dyn,2]⁻¹ and k_T = [(2−ν₁)/G_dyn,1 + (2−ν₂)/G_dyn,2]⁻¹
+    with G_dyn = E_dyn/(2(1+ν)): eq. (8) as printed has G_dyn,2 twice and 1−ν₂; this form
+    reproduces the paper's k_N = 2.06×10⁷ kN/m², k_T = 4.59×10⁶ kN/m for E = 21 GPa, ν = 0.2.
+    k_T, a modulus, is used as a spring stiffness in N/m, as the paper does.
+    """
+    ea, eb = dynamic_modulus(a.elastic_modulus), dynamic_modulus(b.elastic_modulus)
+    ga, gb = ea / (2 * (1 + a.poisson_ratio)), eb / (2 * (1 + b.poisson_ratio))
+    k_n = 1.0 / ((1 - a.poisson_ratio**2) / ea + (1 - b.poisson_ratio**2) / eb)
+    k_t = 1.0 / ((2 - a.poisson_ratio) / ga + (2 - b.poisson_ratio) / gb)
+    return k_n, k_t
+
+
+def restitution_of(zeta: float) -> float:
+    """Coefficient of restitution of a spring–dashpot contact that cannot pull.
+
+    Relative motion m·x'' + c·x' + k·x = 0 from x = 0, x' = v₀, while the contact force
+    k·x + c·x' is compressive; it separates when that force returns to zero, at
+    ω_d·t_s = π − atan(2ζ√(1−ζ²)/(1−2ζ²)), and e = |x'(t_s)|/v₀ =
+    e^(−ζω t_s)·|cos ω_d t_s − ζ/√(1−ζ²)·sin ω_d t_s| (ω_d = ω√(1−ζ²)).
+    """
+    if zeta <= 0.0:
+        return 1.0
+    s = np.sqrt(1.0 - zeta * zeta)
+    phase = np.arctan2(2.0 * zeta * s, 1.0 - 2.0 * zeta * zeta)  # in (0, π) for 0 < ζ < 1
+    wt = np.pi - phase  # ω_d·t_s
+    return float(np.exp(-zeta * wt / s) * abs(np.cos(wt) - zeta / s * np.sin(wt)))
+
+
+def restitution_damping_ratio(e: float) -> float:
+    """Damping ratio ζ whose no-tension spring–dashpot contact rebounds with restitution e
+    (inverse of restitution_of). The classical ζ = −ln e/√(π² + ln² e) (Anagnostopoulos
+    1988) assumes the dashpot may pull until the overlap closes; a contact that cannot pull
+    separates earlier and dissipates less, so it needs a larger ζ for the same e."""
+    if e >= 1.0:
+        return 0.0
+    from scipy.optimize import brentq
+
+    return float(brentq(lambda z: restitution_of(z) - e, 1e-12, 1.0 - 1e-9, xtol=1e-15, rtol=1e-14))
+
+
+@dataclass(frozen=True)
+class PairInfo:
+    """Who a contact pair is, for reports and the impact log."""
+
+    body_a: str
+    floor_a: int  # 1-based floor of body A's building
+    body_b: str
+    floor_b: int  # 1-based floor of body B's building; 0 for an obstacle
+    elevation: float  # m
+
+
+@dataclass(frozen=True)
+class ContactArrays:
+    """Everything the contact kernel needs, as arrays."""
+
+    body_poly: np.ndarray  # (n_bodies, n_v_max, 2) outlines at rest, global, counter-clockwise
+    body_nv: np.ndarray  # (n_bodies,) vertex count
+    body_floor: np.ndarray  # (n_bodies,) global floor index, −1 for a fixed obstacle
+    body_centre: np.ndarray  # (n_bodies, 2) mass centre (floors) or centroid (obstacles) at rest
+    body_radius: np.ndarray  # (n_bodies,) largest distance from body_centre to a vertex, m
+    pair_a: np.ndarray  # (n_pairs,) body index of A
+    pair_b: np.ndarray  # (n_pairs,) body index of B
+    pair_kn: np.ndarray  # N/m²
+    pair_kt: np.ndarray  # N/m
+    pair_mu_s: np.ndarray
+    pair_mu_k: np.ndarray
+    pair_cn: np.ndarray  # constant normal dashpot, N·s/m
+    pair_zeta: np.ndarray  # damping ratio of the restitution dashpot (0: none)
+    pair_ct: np.ndarray  # tangential dashpot, N·s/m
+    pair_meff: np.ndarray  # m_A·m_B/(m_A + m_B), kg (m_A against an obstacle)
+    pairs: list[PairInfo]
+    omega_max: float  # rad/s, estimate of the fastest contact vibration (0 without pairs)
+
+    @property
+    def n_pairs(self) -> int:
+        return self.pair_a.size
+
+
+def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> ContactArrays:
+    """Candidate pairs and their parameters (no pairs when contact is disabled)."""
+    model = loaded.model
+    contact = model.contact
+    source = str(loaded.source)
+    polys, floors, centres, masses, inertias, owners = [], [], [], [], [], []
+    start = 0
+    for b, bld in enumerate(buildings):
+        for f in range(bld.n_floors):
+            polys.append(bld.slabs[f])
+            floors.append(start + f)
+            centres.append(bld.mass_centre[f])
+            masses.append(bld.mass[3 * f])
+            inertias.append(bld.mass[3 * f + 2])
+            owners.append((b, f))
+        start += bld.n_floors
+    n_floors = start
+    for obstacle in model.obstacles:
+        poly = np.asarray(obstacle.polygon, dtype=float)
+        polys.append(poly)
+        floors.append(-1)
+        centres.append(polygon_centroid(poly))
+        masses.append(np.inf)
+        inertias.append(np.inf)
+    nv = np.array([p.shape[0] for p in polys], dtype=np.int64)
+    body_poly = np.zeros((len(polys), int(nv.max()), 2))
+    for k, p in enumerate(polys):
+        body_poly[k, : p.shape[0]] = p
+    centre = np.asarray(centres, dtype=float).reshape(-1, 2)
+    radius = np.array([np.max(np.hypot(*(p - c).T)) for p, c in zip(polys, centre)])
+
+    candidates: list[tuple[int, int, PairInfo]] = []
+    if contact.enabled:
+        flat = [(b, f, bld) for b, bld in enumerate(buildings) for f in range(bld.n_floors)]
+        for ia, (ba, fa, bld_a) in enumerate(flat):
+            for ib, (bb, fb, bld_b) in enumerate(flat):
+                if bb > ba and abs(bld_a.elevation[fa] - bld_b.elevation[fb]) < LEVEL_TOLERANCE:
+                    info = PairInfo(bld_a.name, fa + 1, bld_b.name, fb + 1, float(bld_a.elevation[fa]))
+                    candidates.append((ia, ib, info))
+        for o, obstacle in enumerate(model.obstacles):
+            for ia, (ba, fa, bld_a) in enumerate(flat):
+                if obstacle.spans(float(bld_a.elevation[fa]), LEVEL_TOLERANCE):
+                    info = PairInfo(bld_a.name, fa + 1, obstacle.name, 0, float(bld_a.elevation[fa]))
+                    candidates.append((ia, n_floors + o, info))
+
+    k_pairs = [_pair_stiffness(loaded, info, i, j, n_floors) for i, j, info in candidates]
+    kn = np.array([k[0] for k in k_pairs], dtype=float)
+    kt = np.array([k[1] for k in k_pairs], dtype=float)
+    m = np.asarray(masses)
+    meff = np.array([m[i] if not np.isfinite(m[j]) else m[i] * m[j] / (m[i] + m[j]) for i, j, _ in candidates])
+    zeta = restitution_damping_ratio(contact.restitution) if contact.restitution not in (None, 1.0) else 0.0
+    n = len(candidates)
+    arrays = ContactArrays(
+        body_poly=body_poly,
+        body_nv=nv,
+        body_floor=np.asarray(floors, dtype=np.int64),
+        body_centre=centre,
+        body_radius=radius,
+        pair_a=np.array([c[0] for c in candidates], dtype=np.int64),
+        pair_b=np.array([c[1] for c in candidates], dtype=np.int64),
+        pair_kn=kn,
+        pair_kt=kt,
+        pair_mu_s=np.full(n, contact.friction_static),
+        pair_mu_k=np.full(n, contact.friction_kinetic),
+        pair_cn=np.full(n, contact.damping_normal or 0.0),
+        pair_zeta=np.full(n, zeta),
+        pair_ct=np.full(n, contact.damping_tangential or 0.0),
+        pair_meff=meff.astype(float),
+        pairs=[c[2] for c in candidates],
+        omega_max=0.0,
+    )
+    omega = contact_omega(arrays, m, np.asarray(inertias), polys)
+    return ContactArrays(**{**arrays.__dict__, "omega_max": omega})
+
+
+def _pair_stiffness(loaded: LoadedModel, info: PairInfo, i: int, j: int, n_floors: int) -> tuple[float, float]:
+    """(k_N, k_T) of a pair: given in [contact], or "auto" from the bodies' materials."""
+    model = loaded.model
+    contact = model.contact
+    kn, kt = contact.k_normal, contact.k_tangential
+    if kn != "auto" and kt != "auto":
+        return float(kn), float(kt)
+    materials = []
+    for name in (info.body_a, info.body_b):
+        building = next((b for b in model.buildings if b.name == name), None)
+        if building is None:
+            obstacle = next(o for o in model.obstacles if o.name == name)
+            materials.append(model.materials[obstacle.material])
+            continue
+        slab = building.slab_material_name()
+        if slab is None:
+            index = model.buildings.index(building)
+            raise InputError(
+                "its columns use several materials, so the slab material for the \"auto\" impact "
+                "stiffness is ambiguous; name it with slab_material",
+                file=loaded.source,
+                field=f"buildings[{index}].slab_material",
+            )
+        materials.append(model.materials[slab])
+    auto_n, auto_t = impact_stiffness(*materials)
+    return (auto_n if kn == "auto" else float(kn)), (auto_t if kt == "auto" else float(kt))
+
+
+def contact_omega(arrays: ContactArrays, mass: np.ndarray, inertia: np.ndarray, polys: list[np.ndarray]) -> float:
+    """An upper estimate of the fastest vibration a contact can cause, rad/s.
+
+    A pair's overlap grows at most as fast as L·δ with L the longest line inside the smaller
+    body (its diameter), so the normal force stiffens at most to k_N·L; the tangential spring
+    adds k_T. That stiffness acts at a point, on bodies whose mobility there is at most
+    1/m + r²/J for each (r: the body's largest vertex distance from its mass centre;
+    obstacles do not move). ω = √(max(k_N·L, k_T)·Σ(1/m + r²/J)).
+    """
+    worst = 0.0
+    diameters = [float(np.max(np.hypot(*(p[:, None, :] - p[None, :, :]).reshape(-1, 2).T))) for p in polys]
+    for p in range(arrays.n_pairs):
+        i, j = int(arrays.pair_a[p]), int(arrays.pair_b[p])
+        length = min(diameters[i], diameters[j])
+        mobility = 0.0
+        for k in (i, j):
+            if np.isfinite(mass[k]):
+                mobility += 1.0 / mass[k] + arrays.body_radius[k] ** 2 / inertia[k]
+        stiffness = max(arrays.pair_kn[p] * length, arrays.pair_kt[p])
+        worst = max(worst, float(np.sqrt(stiffness * mobility)))
+    return worst

@@ -1,0 +1,105 @@
+"""Contact (pounding) settings and fixed obstacles.
+
+The impact law of Polycarpou & Komodromos (2013), section 4: a normal force k_N·A_c from
+the overlap area A_c of two slabs at one level, acting at the overlap's centroid along the
+normal to the line through the two boundary crossings; an incremental tangential spring
+k_T with Coulomb stick/slip (static μ_s, kinetic μ_k); optional dashpots.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import Field, PlainValidator, WithJsonSchema, model_validator
+
+from .base import Name, Real, Strict
+from .slab import SlabPolygon
+
+
+def _number_or_auto(value: Any) -> float | Literal["auto"]:
+    if value == "auto":
+        return "auto"
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0:
+        return float(value)
+    raise ValueError(f'expected a stiffness (a number > 0) or "auto", got {value!r}')
+
+
+StiffnessOrAuto = Annotated[
+    float | Literal["auto"],
+    PlainValidator(_number_or_auto),
+    WithJsonSchema({"anyOf": [{"type": "number", "exclusiveMinimum": 0}, {"const": "auto", "type": "string"}]}),
+]
+
+
+class Contact(Strict):
+    """How floors at one level (and floors and obstacles) interact when they overlap."""
+
+    enabled: bool = True
+    """Detect and model pounding. false: the buildings pass through each other (the paper's
+    "d = ∞" cases)."""
+
+    k_normal: StiffnessOrAuto = "auto"
+    """Normal impact stiffness k_N per unit overlap area, N/m² (F_N = k_N·A_c), or "auto":
+    from the two bodies' materials by the paper's eqs. (6)–(7)."""
+
+    k_tangential: StiffnessOrAuto = "auto"
+    """Tangential impact stiffness k_T of the incremental friction spring, N/m, or "auto":
+    from the two bodies' materials by eq. (8) as corrected in docs/theory.md."""
+
+    friction_static: Annotated[Real, Field(ge=0, le=10)] = 0.8
+    """Static friction coefficient μ_s: the contact sticks while |F_T| ≤ μ_s·F_N."""
+
+    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] = 0.6
+    """Kinetic friction coefficient μ_k: while sliding |F_T| = μ_k·F_N; at most μ_s."""
+
+    restitution: Annotated[Real, Field(ge=0.14, le=1)] | None = None
+    """Coefficient of restitution e of a face-to-face impact, 0.14 to 1, from which a normal
+    dashpot is derived (docs/theory.md; a dashpot that cannot pull rebounds with e ≥ 0.135
+    while underdamped); 1 or absent: no normal dashpot (the paper's choice)."""
+
+    damping_normal: Annotated[Real, Field(gt=0)] | None = None
+    """Normal dashpot coefficient c_N, N·s/m, instead of `restitution`."""
+
+    damping_tangential: Annotated[Real, Field(gt=0)] | None = None
+    """Tangential dashpot coefficient c_T, N·s/m, in parallel with the friction spring."""
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Contact":
+        if self.friction_kinetic > self.friction_static:
+            raise ValueError(
+                f"friction_kinetic ({self.friction_kinetic:g}) exceeds friction_static "
+                f"({self.friction_static:g}); a sliding contact cannot resist more than a sticking one"
+            )
+        if self.restitution is not None and self.damping_normal is not None:
+            raise ValueError("give either 'restitution' or 'damping_normal', not both")
+        return self
+
+
+class Obstacle(Strict):
+    """A fixed rigid convex body in plan: a wall, a moat wall, a neighbour taken as rigid."""
+
+    name: Name
+    """Obstacle name, unique among buildings and obstacles."""
+
+    polygon: SlabPolygon
+    """Outline: a convex polygon [[X, Y], ...] in global coordinates, m, either orientation."""
+
+    elevation: Real | tuple[Real, Real]
+    """Level of the obstacle above the ground, m: one elevation, or [bottom, top] to meet
+    every floor whose elevation lies in that range."""
+
+    material: Name
+    """Name of the obstacle's material in [materials] (for "auto" impact stiffness)."""
+
+    @model_validator(mode="after")
+    def _range_ordered(self) -> "Obstacle":
+        if isinstance(self.elevation, tuple) and self.elevation[0] > self.elevation[1]:
+            raise ValueError(f"elevation range [{self.elevation[0]:g}, {self.elevation[1]:g}] m is reversed")
+        return self
+
+    def spans(self, z: float, tolerance: float) -> bool:
+        """Whether a floor at elevation z (m) meets this obstacle."""
+        if isinstance(self.elevation, tuple):
+            return self.elevation[0] - tolerance <= z <= self.elevation[1] + tolerance
+        return abs(z - self.elevation) <= tolerance

@@ -1,0 +1,232 @@
+"""Contact forces of the overlap-area impact model (paper section 4), compiled.
+
+For every candidate pair (two floors at one level, or a floor and a fixed obstacle), each
+step: a broad phase on bounding circles; the deformed outlines; their overlap polygon
+(clip_overlap) and contact frame (contact_frame: area A_c, centroid c, normal n from A into
+B, tangent t = ẑ × n); then the impact law acting at c:
+
+    F_N = k_N·A_c + c_N·s            s = −(v_B(c) − v_A(c))·n, the closing speed; F_N ≥ 0
+    F_T ← F_T − k_T·Δu_T             Δu_T = Δt·(v_B(c) − v_A(c))·t, B's slip on A since the last
+                                     step (velocities at t_{n−½}); the dashpots use v ≈ v_n
+    F_T,total = F_T − c_T·(v_B(c) − v_A(c))·t
+    stick while |F_T,total| ≤ μ_s·F_N; on exceeding it the contact slips with |F_T| = μ_k·F_N
+    and keeps slipping (limit μ_k·F_N) until the trial force falls within μ_k·F_N again.
+
+The force on B is F_N·n + F_T·t, on A its opposite; on a floor it becomes (F_x, F_y, r × F)
+with r = c − G (G the floor's displaced mass centre). The tangential state resets when the
+overlap vanishes. Points move with the floors' small-rotation kinematics, as everywhere in
+pound: P ↦ P + (u_x − θ·(P_y − G_y), u_y + θ·(P_x − G_x)).
+
+Each contact episode (first step with overlap to first step without) is one row of the
+impact log.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .contact_geometry import (
+    AREA,
+    CX,
+    CY,
+    DEPTH,
+    LENGTH,
+    NX,
+    NY,
+    TX,
+    TY,
+    clip_overlap,
+    contact_frame_xy,
+)
+
+# pair state columns
+ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT = range(4)
+# per-pair current values (also what is stored at the output interval)
+NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
+NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
+# impact log columns
+EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
+EV_COLUMNS = 11
+
+
+@njit(cache=True, inline="always")
+def _deform(body, u, body_poly, body_nv, body_floor, body_centre, out):
+    """Write body's displaced outline into out; returns its displaced reference point."""
+    f = body_floor[body]
+    gx = body_centre[body, 0]
+    gy = body_centre[body, 1]
+    if f < 0:
+        for k in range(body_nv[body]):
+            out[k, 0] = body_poly[body, k, 0]
+            out[k, 1] = body_poly[body, k, 1]
+        return gx, gy
+    ux = u[3 * f]
+    uy = u[3 * f + 1]
+    th = u[3 * f + 2]
+    for k in range(body_nv[body]):
+        px = body_poly[body, k, 0]
+        py = body_poly[body, k, 1]
+        out[k, 0] = px + ux - th * (py - gy)
+        out[k, 1] = py + uy + th * (px - gx)
+    return gx + ux, gy + uy
+
+
+@njit(cache=True, inline="always")
+def _point_velocity(f, cx, cy, gx, gy, v):
+    """Velocity (m/s) of the material point of floor f at (cx, cy); zero for an obstacle."""
+    if f < 0:
+        return 0.0, 0.0
+    w = v[3 * f + 2]
+    return v[3 * f] - w * (cy - gy), v[3 * f + 1] + w * (cx - gx)
+
+
+@njit(cache=True, inline="always")
+def _apply(f, fx, fy, cx, cy, gx, gy, out):
+    """Add the force (fx, fy) acting at (cx, cy) to floor f's generalized forces."""
+    if f >= 0:
+        out[3 * f] += fx
+        out[3 * f + 1] += fy
+        out[3 * f + 2] += (cx - gx) * fy - (cy - gy) * fx
+
+
+@njit(cache=True)
+def contact_forces(
+    n, dt, u, v_half, v_est, geometry, params, state, now, events, n_events, forces, poly_a, poly_b, clip,
+    clip_label, tmp, tmp_label, frame,
+):
+    """Contact forces at step n: adds them to `forces` (n_dof + 3).
+
+    u = u_n; v_half = v_{n−½} (so Δt·v_half is the displacement since the last step, which
+    drives the tangential spring); v_est ≈ v_n = v_{n−½} + ½Δv_{n−1}, a second-order
+    estimate of the velocity for the dashpots.
+
+    geometry = (body_poly, body_nv, body_floor, body_centre, body_radius);
+    params = (pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff).
+    Returns the number of pairs in contact.
+    """
+    body_poly, body_nv, body_floor, body_centre, body_radius = geometry
+    pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff = params
+    t_now = n * dt
+    in_contact = 0
+    for p in range(pair_a.size):
+        a = pair_a[p]
+        b = pair_b[p]
+        fa = body_floor[a]
+        fb = body_floor[b]
+        # broad phase: displaced mass centres against bounding circles
+        gax = body_centre[a, 0] + (u[3 * fa] if fa >= 0 else 0.0)
+        gay = body_centre[a, 1] + (u[3 * fa + 1] if fa >= 0 else 0.0)
+        gbx = body_centre[b, 0] + (u[3 * fb] if fb >= 0 else 0.0)
+        gby = body_centre[b, 1] + (u[3 * fb + 1] if fb >= 0 else 0.0)
+        touching = False
+        reach = body_radius[a] + body_radius[b]
+        if (gbx - gax) ** 2 + (gby - gay) ** 2 <= reach * reach:
+            # narrow phase: overlap of the displaced outlines and its frame
+            _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
+            _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
+            m = clip_overlap(poly_a, body_nv[a], poly_b, body_nv[b], clip, clip_label, tmp, tmp_label)
+            if m > 0:
+                touching = contact_frame_xy(clip, clip_label, m, poly_a, body_nv[a], poly_b, body_nv[b],
+                                            gax, gay, gbx, gby, frame)  # fmt: skip
+        if not touching:
+            if state[p, ST_ACTIVE] > 0:  # the episode ends
+                e = int(state[p, ST_EVENT])
+                if e < events.shape[0]:
+                    events[e, EV_T_END] = t_now
+                state[p, ST_ACTIVE] = 0.0
+                state[p, ST_FT] = 0.0
+                state[p, ST_SLIP] = 0.0
+            for k in range(now.shape[1]):
+                now[p, k] = 0.0
+            continue
+        in_contact += 1
+        area = frame[AREA]
+        cx = frame[CX]
+        cy = frame[CY]
+        nx = frame[NX]
+        ny = frame[NY]
+        tx = frame[TX]
+        ty = frame[TY]
+        # relative motion of B's material point at c with respect to A's: slip since the
+        # last step (half-step velocities) and velocity now (for the dashpots)
+        vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
+        vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
+        slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
+        vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
+        vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_est)
+        v_n = (vbx - vax) * nx + (vby - vay) * ny
+        v_t = (vbx - vax) * tx + (vby - vay) * ty
+        # normal force: overlap-area spring and dashpot, never pulling
+        damping = c_n[p]
+        if zeta[p] > 0.0:
+            damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
+        f_n = k_n[p] * area - damping * v_n
+        if f_n < 0.0:
+            f_n = 0.0
+        # tangential force: incremental spring, dashpot, Coulomb stick/slip
+        spring = state[p, ST_FT] - k_t[p] * slip_t
+        trial = spring - c_t[p] * v_t
+        slipping = state[p, ST_SLIP] > 0
+        limit = mu_k[p] * f_n if slipping else mu_s[p] * f_n
+        if abs(trial) > limit:
+            slipping = True
+            trial = mu_k[p] * f_n if trial > 0 else -mu_k[p] * f_n
+            spring = trial
+        elif slipping and abs(trial) <= mu_k[p] * f_n:
+            slipping = False
+        state[p, ST_FT] = spring
+        state[p, ST_SLIP] = 1.0 if slipping else 0.0
+        f_t = trial
+        # forces on B (+) and A (−) at the action point
+        fx = f_n * nx + f_t * tx
+        fy = f_n * ny + f_t * ty
+        _apply(fb, fx, fy, cx, cy, gbx, gby, forces)
+        _apply(fa, -fx, -fy, cx, cy, gax, gay, forces)
+        now[p, NOW_FN] = f_n
+        now[p, NOW_FT] = f_t
+        now[p, NOW_AREA] = area
+        now[p, NOW_X] = cx
+        now[p, NOW_Y] = cy
+        now[p, NOW_DEPTH] = frame[DEPTH]
+        # impact log
+        if state[p, ST_ACTIVE] == 0:
+            state[p, ST_ACTIVE] = 1.0
+            state[p, ST_EVENT] = n_events[0]
+            if n_events[0] < events.shape[0]:
+                row = n_events[0]
+                for k in range(EV_COLUMNS):
+                    events[row, k] = 0.0
+                events[row, EV_PAIR] = p
+                events[row, EV_T_START] = t_now
+                events[row, EV_T_END] = np.nan
+            n_events[0] += 1
+        e = int(state[p, ST_EVENT])
+        if e < events.shape[0]:
+            events[e, EV_IMPULSE] += f_n * dt
+            if f_n > events[e, EV_PEAK_FN]:
+                events[e, EV_PEAK_FN] = f_n
+                events[e, EV_X] = cx
+                events[e, EV_Y] = cy
+                events[e, EV_T_PEAK] = t_now
+            if area > events[e, EV_PEAK_AREA]:
+                events[e, EV_PEAK_AREA] = area
+            if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:
+                events[e, EV_PEAK_DEPTH] = frame[DEPTH]
+            if slipping:
+                events[e, EV_SLID] = 1.0
+    return in_contact
+
+
+def buffers(n_vertices: int) -> tuple[np.ndarray, ...]:
+    """Work buffers of contact_forces for bodies of at most n_vertices vertices."""
+    clip_rows = 2 * n_vertices + 2
+    return (
+        np.zeros((n_vertices, 2)),
+        np.zeros((n_vertices, 2)),
+        np.zeros((clip_rows, 2)),
+        np.zeros(clip_rows, dtype=np.int64),
+        np.zeros((clip_rows, 2)),
+        np.zeros(clip_rows, dtype=np.int64),
+        np.zeros(16),
+    )
