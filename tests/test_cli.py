@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 import pounding_cli as pound
 from pounding_cli.cli import app
 
-from conftest import EXAMPLE, INPUTS, ROOT
+from conftest import EXAMPLE, INPUTS, ROOT, SHARED
 
 runner = CliRunner()
 
@@ -116,6 +116,8 @@ def test_every_field_has_a_description():
 
 @pytest.mark.parametrize("path", sorted(INPUTS.glob("*.toml")) + sorted(INPUTS.glob("*.json")), ids=lambda p: p.name)
 def test_every_shipped_input_validates(path):
+    if "shared/records" in path.read_text() and not SHARED.exists():
+        pytest.skip("the model reads a record kept in ../shared, which is absent")
     r = runner.invoke(app, ["validate", str(path)])
     assert r.exit_code == 0, r.output
 

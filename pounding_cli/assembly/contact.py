@@ -149,6 +149,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
             for ia, (ba, fa, bld_a) in enumerate(flat):
                 if obstacle.spans(float(bld_a.elevation[fa]), LEVEL_TOLERANCE):
                     info = PairInfo(bld_a.name, fa + 1, obstacle.name, 0, float(bld_a.elevation[fa]))
+                    _check_apart(polys[ia], polys[n_floors + o], info, f"obstacles[{o}].polygon", loaded)
                     candidates.append((ia, n_floors + o, info))
 
     k_pairs = [_pair_stiffness(loaded, info, i, j, n_floors) for i, j, info in candidates]
@@ -179,6 +180,20 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     )
     omega = contact_omega(arrays, m, np.asarray(inertias), polys)
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega})
+
+
+def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: str, loaded: LoadedModel) -> None:
+    """An obstacle must not overlap a floor at its level before the ground moves."""
+    import shapely
+
+    area = shapely.Polygon(slab).intersection(shapely.Polygon(obstacle)).area
+    if area > 1e-9 * min(shapely.Polygon(slab).area, shapely.Polygon(obstacle).area):
+        raise InputError(
+            f"at rest, obstacle {info.body_b!r} overlaps floor {info.floor_a} of building {info.body_a!r} "
+            f"at elevation {info.elevation:g} m by {area:.4g} m²; move the obstacle so that they are apart or touch",
+            file=loaded.source,
+            field=field,
+        )
 
 
 def _pair_stiffness(loaded: LoadedModel, info: PairInfo, i: int, j: int, n_floors: int) -> tuple[float, float]:

@@ -178,8 +178,9 @@ def _description(loc: tuple[Any, ...]) -> str:
 
 
 def _first_sentence(text: str) -> str:
-    """Up to the first full stop that ends a sentence (not the one in "e.g." or "i.e.")."""
-    match = re.search(r"(?<!e\.g)(?<!i\.e)\.(\s|$)", text)
+    """Up to the first full stop that ends a sentence: followed by a capital or the end (so
+    not those of "e.g. 21e9" or "eqs. (6)")."""
+    match = re.search(r"\.(\s+(?=[A-Z])|$)", text)
     return text[: match.start()] if match else text
 
 
