@@ -28,7 +28,7 @@ special case. Everything here works on plain arrays and allocates nothing.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .jit import kernel
 
 from .contact import contact_forces
 
@@ -44,7 +44,7 @@ N_ACC = 7
 STATUS_OK, STATUS_DIVERGED = 0, 1
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def ground_at(t, ground, ground_dt):
     """Ground acceleration (X, Y) at time t, linear between samples, zero after the record."""
     x = t / ground_dt
@@ -60,7 +60,7 @@ def ground_at(t, ground, ground_dt):
     return (1 - w) * ground[i, 0] + w * ground[i + 1, 0], (1 - w) * ground[i, 1] + w * ground[i + 1, 1]
 
 
-@njit(cache=True)
+@kernel
 def storey_matvec(x, storey_k, bottom, top, out):
     """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
     out[:] = 0.0
@@ -74,14 +74,14 @@ def storey_matvec(x, storey_k, bottom, top, out):
             out[b + r if r < 3 else t + r - 3] += acc
 
 
-@njit(cache=True)
+@kernel
 def damping_force(v, kv, mass, a0, a1, n_dof, out):
     """out = C·v = a0·M·v + a1·K·v, DOF by DOF, given kv = K·v."""
     for d in range(n_dof):
         out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
 
 
-@njit(cache=True)
+@kernel
 def solve_blocks(binv, dof_start, dof_count, r, out):
     """out = blockdiag(B⁻¹)·r, one dense block per building."""
     for b in range(dof_start.size):
@@ -94,7 +94,7 @@ def solve_blocks(binv, dof_start, dof_count, r, out):
             out[d0 + i] = acc
 
 
-@njit(cache=True)
+@kernel
 def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
                  col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc):
     """Running maxima: column deflections in building axes, storey twist, floor motion.
@@ -133,7 +133,7 @@ def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, cent
             peak_acc[d] = abs(acc_abs[d])
 
 
-@njit(cache=True)
+@kernel
 def advance(
     n_start, n_stop, dt, stride, u_limit,
     # structure

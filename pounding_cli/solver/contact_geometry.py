@@ -49,7 +49,7 @@ exceptions, no NaN or inf for finite input. Lengths in m, areas in m².
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .jit import kernel
 
 # contact_frame's result vector
 AREA, CX, CY, P1X, P1Y, P2X, P2Y, NX, NY, TX, TY, DEPTH, LENGTH, N_CROSSINGS = range(14)
@@ -76,12 +76,10 @@ def clip_rows(na: int, nb: int) -> int:
     return na + nb + 2
 
 
-# numba options of every kernel here: error_model="numpy", so a division can never raise (each
-# is guarded anyway); _nrt=False, numba's switch for code that allocates nothing: without the
-# runtime, passing arrays to the small helpers costs no atomic reference counting, which was
-# two thirds of overlap_frame's time (3.0 µs → 0.8 µs for two 4-gons). Callers compiled with
-# the runtime call these as usual.
-@njit(cache=True, error_model="numpy", _nrt=False)
+# Every kernel here is compiled by solver.jit.kernel (no reference counting, divisions that
+# never raise); without reference counting, passing arrays to the small helpers costs no
+# atomic operations, which were two thirds of overlap_frame's time (3.0 µs → 0.8 µs).
+@kernel
 def tolerance(a, na, b, nb):
     """Length tolerance tol = 1e-12·L + 4ε·X for polygons a[:na], b[:nb], m (see the header)."""
     size_a, big_a = _extent(a, na)
@@ -89,7 +87,7 @@ def tolerance(a, na, b, nb):
     return REL_TOL * max(size_a, size_b) + ROUNDING * max(big_a, big_b)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _extent(poly, n):
     """(larger bounding-box side, largest |coordinate|) of poly[:n], m."""
     x0 = x1 = poly[0, 0]
@@ -106,7 +104,7 @@ def _extent(poly, n):
     return max(x1 - x0, y1 - y0), big
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def circles_apart(ca, ra, cb, rb):
     """Broad phase: True when the circles (centre ca, radius ra) and (cb, rb) cannot overlap.
 
@@ -118,7 +116,7 @@ def circles_apart(ca, ra, cb, rb):
     return dx * dx + dy * dy > r * r
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def bounding_circle(poly, n, centre):
     """Write the bounding-box centre of poly[:n] into centre (2,) and return the radius, m."""
     x0 = x1 = poly[0, 0]
@@ -143,7 +141,7 @@ def bounding_circle(poly, n, centre):
 # --- clipping ---------------------------------------------------------------------------
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _append(dst, dst_label, k, cap, x, y, label, tol):
     """Append vertex (x, y) ending an edge labelled `label`, unless it repeats the last one."""
     if k > 0 and abs(x - dst[k - 1, 0]) <= tol and abs(y - dst[k - 1, 1]) <= tol:
@@ -156,7 +154,7 @@ def _append(dst, dst_label, k, cap, x, y, label, tol):
     return k + 1
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _close(dst, dst_label, k, tol):
     """Drop closing vertices that repeat vertex 0; the edge into vertex 0 keeps a real label."""
     while k > 1 and abs(dst[k - 1, 0] - dst[0, 0]) <= tol and abs(dst[k - 1, 1] - dst[0, 1]) <= tol:
@@ -165,7 +163,7 @@ def _close(dst, dst_label, k, tol):
     return k
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _load(b, nb, dst, dst_label, cap, tol):
     """Copy B into dst; the edge ending at vertex i is B's edge i−1, label +i (+nb for i = 0)."""
     k = 0
@@ -174,7 +172,7 @@ def _load(b, nb, dst, dst_label, cap, tol):
     return _close(dst, dst_label, k, tol)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _cut(sx, sy, ds, x, y, de, ax, ay, ex, ey):
     """Where segment s→e crosses the line (ax, ay) + u·(ex, ey); ds, de: their cross products.
 
@@ -197,7 +195,7 @@ def _cut(sx, sy, ds, x, y, de, ax, ay, ex, ey):
     return ix, iy
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _clip_pass(src, src_label, n, dst, dst_label, cap, ax, ay, ex, ey, j, tol):
     """One Sutherland–Hodgman pass: keep src[:n] left of the line (ax, ay) + s·(ex, ey).
 
@@ -234,7 +232,7 @@ def _clip_pass(src, src_label, n, dst, dst_label, cap, ax, ay, ex, ey, j, tol):
     return _close(dst, dst_label, k, tol)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _area_perimeter(poly, m):
     """(area, perimeter) of poly[:m], m², m; the shoelace taken relative to vertex 0."""
     x0 = poly[0, 0]
@@ -252,7 +250,7 @@ def _area_perimeter(poly, m):
     return 0.5 * twice, perim
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def clip_overlap(a, na, b, nb, out, out_label, tmp, tmp_label):
     """Overlap polygon of convex polygons A = a[:na] and B = b[:nb], counter-clockwise, m.
 
@@ -301,7 +299,7 @@ def clip_overlap(a, na, b, nb, out, out_label, tmp, tmp_label):
     return m
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _merge_collinear(poly, label, m, tol):
     """Drop vertices between two edges of one owner that continue each other (the vertex within
     tol of the chord of its neighbours): collinear input vertices then make no difference.
@@ -331,14 +329,14 @@ def _merge_collinear(poly, label, m, tol):
 # --- contact frame ----------------------------------------------------------------------
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _edge_length(poly, m, k):
     """Length of overlap edge k (from vertex k−1 to vertex k), m."""
     p = k - 1 if k > 0 else m - 1
     return np.sqrt((poly[k, 0] - poly[p, 0]) ** 2 + (poly[k, 1] - poly[p, 1]) ** 2)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _line_gap(px, py, qx, qy, c, nc, tol):
     """How far segment pq lies from polygon c's boundary lines, m.
 
@@ -364,7 +362,7 @@ def _line_gap(px, py, qx, qy, c, nc, tol):
     return np.sqrt(best)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _share(poly, label, m, k, a, na, b, nb, tol, h):
     """Owner of overlap edge k, −1 (A), +1 (B) or 0 (both), and how nearly it is shared, β.
 
@@ -397,7 +395,7 @@ def _share(poly, label, m, k, a, na, b, nb, tol, h):
     return own, (near - d) / (near - tol)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _point_at(poly, m, k, s):
     """The boundary point at arc length s from vertex k (forward, counter-clockwise, if s ≥ 0)."""
     j = k
@@ -423,7 +421,7 @@ def _point_at(poly, m, k, s):
     return poly[k, 0], poly[k, 1]
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _crossing(poly, label, m, k1, o1, k2, a, na, b, nb, tol, h):
     """Where the crossing between owned edge k1 (owner o1) and the next owned edge k2 lies.
 
@@ -463,7 +461,7 @@ def _crossing(poly, label, m, k1, o1, k2, a, na, b, nb, tol, h):
     return 0.5 * (run + fwd - back)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _gap(s0, s1, perim):
     """Arc length from boundary position s0 forward to s1 on a boundary of length perim, m."""
     g = s1 - s0
@@ -472,7 +470,7 @@ def _gap(s0, s1, perim):
     return min(max(g, 0.0), perim)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _scan_crossings(poly, label, m, a, na, b, nb, tol, h, perim, tx, ty):
     """Walk the overlap boundary once and gather its crossings, coordinates relative to vertex 0.
 
@@ -559,13 +557,13 @@ def _scan_crossings(poly, label, m, a, na, b, nb, tol, h, perim, tx, ty):
     return count, (sw, swx, swy, swxx, swxy, swyy), start, end, lo, hi
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _accumulate(sw, swx, swy, swxx, swxy, swyy, w, x, y):
     """Add point (x, y) with weight w to the sums of a weighted scatter."""
     return sw + w, swx + w * x, swy + w * y, swxx + w * x * x, swxy + w * x * y, swyy + w * y * y
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _owned_means(poly, label, m, a, na, b, nb, tol, h):
     """Length-weighted mean of the A-owned minus that of the B-owned boundary, relative, m.
 
@@ -593,7 +591,7 @@ def _owned_means(poly, label, m, a, na, b, nb, tol, h):
     return 0.0, 0.0, False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _moments(poly, m):
     """Area, centroid and second moments about it, of poly[:m] relative to vertex 0.
 
@@ -628,7 +626,7 @@ def _moments(poly, m):
     return area, perim, cx, cy, ixx, ixy, iyy
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _crossing_normal(count, sums, start, end, tol):
     """Normal from the crossings (relative coordinates): (nx, ny, found).
 
@@ -656,7 +654,7 @@ def _crossing_normal(count, sums, start, end, tol):
     return 0.0, 0.0, False
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _fallback_normal(rx, ry, ixx, ixy, iyy, tol):
     """Normal without crossings: along r = ref_b − ref_a; if |r| ≤ tol, along the minor
     principal axis of the overlap (second moments ixx, ixy, iyy: across its least width);
@@ -670,7 +668,7 @@ def _fallback_normal(rx, ry, ixx, ixy, iyy, tol):
     return 1.0, 0.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def _extent_along(poly, m, nx, ny):
     """max − min of vertex·n over poly[:m] (taken relative to vertex 0), m."""
     lo = hi = 0.0
@@ -681,7 +679,7 @@ def _extent_along(poly, m, nx, ny):
     return hi - lo
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def contact_frame_xy(poly, label, m, a, na, b, nb, rax, ray, rbx, rby, result):
     """contact_frame with the reference points as scalars (rax, ray), (rbx, rby), m: for callers
     that hold them in locals (the time loop), so no (2,) array need exist."""
@@ -747,7 +745,7 @@ def contact_frame_xy(poly, label, m, a, na, b, nb, rax, ray, rbx, rby, result):
     return True
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def contact_frame(poly, label, m, a, na, b, nb, ref_a, ref_b, result):
     """Contact frame of the overlap poly[:m] (labels from clip_overlap) of A = a[:na], B = b[:nb].
 
@@ -769,7 +767,7 @@ def contact_frame(poly, label, m, a, na, b, nb, ref_a, ref_b, result):
     return contact_frame_xy(poly, label, m, a, na, b, nb, ref_a[0], ref_a[1], ref_b[0], ref_b[1], result)
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
+@kernel
 def overlap_frame(a, na, b, nb, ref_a, ref_b, out, out_label, tmp, tmp_label, result):
     """clip_overlap then contact_frame: True and result filled when A and B overlap.
 

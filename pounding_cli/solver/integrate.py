@@ -140,6 +140,15 @@ def peak_geometry(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
     return centre, np.column_stack([-c * py + s * px, s * py + c * px])
 
 
+def bounding_boxes(contact: ContactData) -> np.ndarray:
+    """(n_bodies, 4) x_min, y_min, x_max, y_max of each outline at rest, m."""
+    box = np.empty((contact.body_nv.size, 4))
+    for k, n in enumerate(contact.body_nv):
+        pts = contact.body_poly[k, : max(int(n), 1)]
+        box[k] = pts[:, 0].min(), pts[:, 1].min(), pts[:, 0].max(), pts[:, 1].max()
+    return box
+
+
 def simulate(
     structure: StructureArrays,
     ground: np.ndarray,
@@ -190,7 +199,7 @@ def simulate(
     out_energy = np.full((n_out, 7), np.nan)
     work = [np.zeros(n_dof + 3) for _ in range(6)] + [np.zeros((n_storeys, 3))]
     c = contact if contact is not None else NoContact()
-    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius)
+    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, bounding_boxes(c))
     params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
               c.pair_ct, c.pair_meff)  # fmt: skip
     n_pairs = c.pair_a.size
