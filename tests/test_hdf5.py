@@ -115,3 +115,29 @@ def test_diverged_run_is_written_and_marked(tmp_path, monkeypatch):
         assert 0 < n < 2000
         assert np.isfinite(f["buildings/left/displacement"][()]).all()
         assert (np.abs(f["buildings/left/displacement"][()]) <= integrate.DIVERGENCE_LIMIT).all()
+
+
+def test_impacts_written_and_read_back(tmp_path):
+    """The pounding example: one impact at the third floor; the impact log, the pairs and the
+    contact histories in /impacts, and read_hdf5 returns them unchanged."""
+    path = tmp_path / "p.h5"
+    result = pound.run_model(EXAMPLE.with_name("paper_pounding.toml"), output=path)
+    c = result.contact
+    assert c.impact_count == 1
+    with h5py.File(path) as f:
+        events = f["impacts/events"][()]
+        assert events.shape == (1,)
+        assert events["body_a"][0].decode() == "left" and events["body_b"][0].decode() == "right"
+        assert events["level"][0] == 3 and events["floor_b"][0] == 3
+        assert events["t_end"][0] > events["t_start"][0]
+        assert f["impacts/pairs"].shape == (3,)
+        nt = f["time"].shape[0]
+        for name in ("normal_force", "tangential_force", "area", "depth"):
+            assert f[f"impacts/{name}"].shape == (nt, 3)
+        assert f["impacts/action_point"].shape == (nt, 3, 2)
+        # the contact column of the energy is the work the contacts took; the balance closes
+        assert abs(f["energy"][:, 6]).max() < 1e-6 * f["energy"][:, 0].max()
+    again = pound.read_hdf5(path)
+    assert again.contact.events.tolist() == c.events.tolist()
+    assert_array_equal(again.contact.normal_force, c.normal_force)
+    assert again.contact.pairs.tolist() == c.pairs.tolist()

@@ -110,7 +110,6 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     """Candidate pairs and their parameters (no pairs when contact is disabled)."""
     model = loaded.model
     contact = model.contact
-    source = str(loaded.source)
     polys, floors, centres, masses, inertias, owners = [], [], [], [], [], []
     start = 0
     for b, bld in enumerate(buildings):

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 import re
-from pathlib import PurePath
 from typing import Any
 
 import numpy as np
 from obspy import Stream, Trace, UTCDateTime
 from obspy.core.util import AttribDict
+from ..seed import band_code
+from ..textfile import BINARY, read_all, read_head, source_name
 
 G = 9.80665
 """Standard gravity, m/s² per g."""
@@ -32,7 +33,6 @@ _NPTS_NEW = re.compile(rf"^\s*NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*{_NUMBER}\s*(?:SE
 # Older NGA: "   7500    .0200    NPTS, DT".
 _NPTS_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+{_NUMBER}\s*,?\s+NPTS\s*,?\s*DT\b.*$", re.IGNORECASE)
 _NPTS_WORDS = re.compile(r"\bNPTS\b.*\bDT\b", re.IGNORECASE)
-_BINARY = re.compile(r"[\x00-\x08\x0e-\x1f\x7f]")  # control characters other than \t \n \v \f \r
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
 _VERTICAL = {"UP", "UD", "U", "V", "VER", "VERT", "VERTICAL", "Z", "DWN", "DOWN", "DN"}
 _NORTH = {"N", "NS", "N-S", "NORTH"}
@@ -49,10 +49,10 @@ def _is_at2(filename: Any) -> bool:
     damaged AT2 file is reported as such instead of as an unknown format.
     """
     try:
-        head = _read_head(filename, DETECT_BYTES)
+        head = read_head(filename, DETECT_BYTES)
     except Exception:  # noqa: BLE001 - detection must never raise
         return False
-    if head is None or _BINARY.search(head):
+    if head is None or BINARY.search(head):
         return False
     lines = _LINE_BREAK.split(head)
     if len(lines) < 4:
@@ -68,8 +68,8 @@ def _read_at2(filename: Any, headonly: bool = False, **kwargs: Any) -> Stream:
     Other keyword arguments passed by :func:`obspy.read` are ignored. Raises ValueError
     naming the file and the line for anything that is not a valid AT2 file.
     """
-    name = _source_name(filename)
-    lines = _LINE_BREAK.split(_read_all(filename, name))
+    name = source_name(filename)
+    lines = _LINE_BREAK.split(read_all(filename, name, "an AT2 text file"))
     if len(lines) < 4:
         raise ValueError(f"{name}: an AT2 file has 4 header lines; found only {len(lines)} line(s)")
     stats = _header_stats(lines, name)
@@ -88,7 +88,7 @@ def _header_stats(lines: list[str], name: str) -> dict[str, Any]:
         "network": "",
         "station": _station_code(header["station"]),
         "location": "",
-        "channel": _band_code(1.0 / dt) + "N" + _orientation(header["component"]),
+        "channel": band_code(1.0 / dt) + "N" + _orientation(header["component"]),
         "delta": dt,
         "starttime": UTCDateTime(0),
         "npts": npts,
@@ -162,14 +162,6 @@ def _parse_title(line: str) -> dict[str, str]:
 def _station_code(station: str) -> str:
     """A SEED station code (1-5 upper-case letters and digits) from the header's station name."""
     return re.sub(r"[^A-Z0-9]", "", station.upper())[:5]
-
-
-def _band_code(sampling_rate: float) -> str:
-    """SEED band code for a strong-motion sensor sampled at ``sampling_rate`` Hz."""
-    for limit, code in ((1000.0, "G"), (250.0, "C"), (80.0, "H"), (10.0, "B"), (1.0, "M")):
-        if sampling_rate >= limit - 1e-9:
-            return code
-    return "L"
 
 
 def _orientation(component: str) -> str:
@@ -251,59 +243,3 @@ def _last_data_line(body: list[str]) -> int:
         if body[index].strip():
             return index + 5
     return 4
-
-
-# --- file access ---------------------------------------------------------------------------
-
-
-def _source_name(source: Any) -> str:
-    """How to name ``source`` in messages: its path, a file object's name, or a placeholder."""
-    if isinstance(source, (str, PurePath)):
-        return str(source)
-    name = getattr(source, "name", None)
-    return str(name) if isinstance(name, (str, PurePath)) else f"<{type(source).__name__}>"
-
-
-def _decode(raw: bytes | str) -> str:
-    """Text of the file: UTF-8 (a BOM is dropped), else Latin-1, which never fails."""
-    if isinstance(raw, str):
-        return raw.lstrip("\ufeff")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return raw.decode("latin-1")
-
-
-def _read_head(source: Any, size: int) -> str | None:
-    """The first ``size`` bytes as text, restoring a file object's position; None if unreadable."""
-    if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            return _decode(handle.read(size))
-    if not (hasattr(source, "read") and hasattr(source, "seek") and hasattr(source, "tell")):
-        return None
-    position = source.tell()
-    try:
-        return _decode(source.read(size))
-    finally:
-        source.seek(position, 0)
-
-
-def _read_all(source: Any, name: str) -> str:
-    """The whole file (path or file object, read from its current position) as text."""
-    if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            raw = handle.read()
-    elif hasattr(source, "read"):
-        raw = source.read()
-    else:
-        raise TypeError(f"{name}: expected a path or a file object, got {type(source).__name__}")
-    if not isinstance(raw, (bytes, bytearray, str)):
-        raise TypeError(f"{name}: reading the file object gave {type(raw).__name__}, "
-                        "not bytes or str")
-    text = _decode(bytes(raw) if isinstance(raw, bytearray) else raw)
-    binary = _BINARY.search(text)
-    if binary:
-        line = text.count("\n", 0, binary.start()) + 1
-        raise ValueError(f"{name}: line {line}: control character {binary.group()!r}; "
-                         "not an AT2 text file")
-    return text

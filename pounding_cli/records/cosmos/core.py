@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from pathlib import PurePath
 from typing import Any
 
 import numpy as np
 from obspy import Stream, Trace, UTCDateTime
 from obspy.core.util import AttribDict
+from ..seed import band_code
+from ..textfile import BINARY, read_all, read_head, source_name
 
 G = 9.80665
 """Standard gravity, m/s² per g."""
@@ -32,7 +33,6 @@ _UNIT_FACTORS = {
 }
 
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
-_BINARY = re.compile(r"[\x00-\x08\x0e-\x1f\x7f]")  # control characters other than \t \n \v \f \r
 _KIND_LINE = re.compile(r"^\s*(Uncorrected|Corrected)\s+accelerogram\b", re.IGNORECASE)
 _END_LINE = re.compile(r"^\s*/&")
 # Any line that starts a data block, well formed or not (the strict forms follow).
@@ -76,10 +76,10 @@ def _is_cosmos(filename: Any) -> bool:
     or the word ``CSMIP``; the reader then checks the file strictly.
     """
     try:
-        head = _read_head(filename, DETECT_BYTES)
+        head = read_head(filename, DETECT_BYTES)
     except Exception:  # noqa: BLE001 - detection must never raise
         return False
-    if head is None or _BINARY.search(head):
+    if head is None or BINARY.search(head):
         return False
     lines = _LINE_BREAK.split(head)
     first = next((line for line in lines if line.strip()), "")
@@ -99,9 +99,9 @@ def _read_cosmos(filename: Any, headonly: bool = False, quantities: Any = ("acce
     Other keyword arguments passed by :func:`obspy.read` are ignored. Raises ValueError
     naming the file and the line for anything that is not a valid file.
     """
-    name = _source_name(filename)
+    name = source_name(filename)
     wanted = _wanted_quantities(quantities, name)
-    lines = _LINE_BREAK.split(_read_all(filename, name))
+    lines = _LINE_BREAK.split(read_all(filename, name, "a CSMIP/COSMOS text file"))
     channels: list[_Channel] = []
     index = _skip_blank(lines, 0)
     if index == len(lines):
@@ -394,7 +394,7 @@ def _trace(channel: _Channel, block: _Block, headonly: bool) -> Trace:
         "network": channel.network,
         "station": channel.station,
         "location": channel.location,
-        "channel": (_band_code(1.0 / block.delta) + _INSTRUMENT[block.quantity]
+        "channel": (band_code(1.0 / block.delta) + _INSTRUMENT[block.quantity]
                     + _orientation(channel)),
         "delta": block.delta,
         "starttime": channel.start if channel.start is not None else UTCDateTime(0),
@@ -424,14 +424,6 @@ def _trace(channel: _Channel, block: _Block, headonly: bool) -> Trace:
     if headonly or block.values is None:
         return Trace(header=stats)
     return Trace(data=block.values * block.factor, header=stats)
-
-
-def _band_code(sampling_rate: float) -> str:
-    """SEED band code for a strong-motion sensor sampled at ``sampling_rate`` Hz."""
-    for limit, code in ((1000.0, "G"), (250.0, "C"), (80.0, "H"), (10.0, "B"), (1.0, "M")):
-        if sampling_rate >= limit - 1e-9:
-            return code
-    return "L"
 
 
 def _orientation(channel: _Channel) -> str:
@@ -491,54 +483,3 @@ def _show(text: str, limit: int = 60) -> str:
     return repr(text if len(text) <= limit else text[:limit] + "...")
 
 
-def _source_name(source: Any) -> str:
-    """How to name ``source`` in messages: its path, a file object's name, or a placeholder."""
-    if isinstance(source, (str, PurePath)):
-        return str(source)
-    name = getattr(source, "name", None)
-    return str(name) if isinstance(name, (str, PurePath)) else f"<{type(source).__name__}>"
-
-
-def _decode(raw: bytes | str) -> str:
-    """Text of the file: UTF-8 (a BOM is dropped), else Latin-1, which never fails."""
-    if isinstance(raw, str):
-        return raw.lstrip("\ufeff")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return raw.decode("latin-1")
-
-
-def _read_head(source: Any, size: int) -> str | None:
-    """The first ``size`` bytes as text, restoring a file object's position; None if unreadable."""
-    if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            return _decode(handle.read(size))
-    if not (hasattr(source, "read") and hasattr(source, "seek") and hasattr(source, "tell")):
-        return None
-    position = source.tell()
-    try:
-        return _decode(source.read(size))
-    finally:
-        source.seek(position, 0)
-
-
-def _read_all(source: Any, name: str) -> str:
-    """The whole file (path or file object, read from its current position) as text."""
-    if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            raw = handle.read()
-    elif hasattr(source, "read"):
-        raw = source.read()
-    else:
-        raise TypeError(f"{name}: expected a path or a file object, got {type(source).__name__}")
-    if not isinstance(raw, (bytes, bytearray, str)):
-        raise TypeError(f"{name}: reading the file object gave {type(raw).__name__}, "
-                        "not bytes or str")
-    text = _decode(bytes(raw) if isinstance(raw, bytearray) else raw)
-    binary = _BINARY.search(text)
-    if binary:
-        line = text.count("\n", 0, binary.start()) + 1
-        raise ValueError(f"{name}: line {line}: control character {binary.group()!r}; "
-                         "not a CSMIP/COSMOS text file")
-    return text
