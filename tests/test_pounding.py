@@ -172,3 +172,33 @@ def test_mirrored_scene_gives_the_mirrored_response():
         assert_allclose(u2[:, :, 1], u1[:, :, 1], atol=1e-9 * scale)
         assert_allclose(u2[:, :, 2], -u1[:, :, 2], atol=1e-9 * scale / 8)
     assert_allclose(r2.contact.events["peak_normal_force"], r1.contact.events["peak_normal_force"], rtol=1e-7)
+
+
+def test_a_row_of_buildings_and_a_wall():
+    """Three buildings in a row along x with 3 mm gaps and a wall beyond the last one: every
+    floor pair at one level is a candidate (A the building listed first), and so is every
+    floor the wall's elevation range spans (the broad phase skips the far ones); the impact
+    log names the bodies that met."""
+    a = square_building("a", storeys=2)
+    b = square_building("b", origin=(8.003, 0.0), section=(0.45, 0.45), storeys=3)
+    c = square_building("c", origin=(16.006, 0.0), section=(0.3, 0.3), storeys=2)
+    doc = model_doc(a, b, c, components=["L"], duration=16.0)
+    doc["obstacles"] = [
+        {"name": "wall", "polygon": [[24.009, -1.0], [25.0, -1.0], [25.0, 9.0], [24.009, 9.0]],
+         "elevation": [0.0, 3.5], "material": "concrete"},
+    ]  # fmt: skip
+    scene = pound.prepare(load_doc(doc))
+    pairs = {(p.body_a, p.floor_a, p.body_b, p.floor_b) for p in scene.contact.pairs}
+    assert pairs == {
+        ("a", 1, "b", 1), ("a", 2, "b", 2), ("a", 1, "c", 1), ("a", 2, "c", 2),
+        ("b", 1, "c", 1), ("b", 2, "c", 2), ("a", 1, "wall", 0), ("b", 1, "wall", 0), ("c", 1, "wall", 0),
+    }  # fmt: skip
+    result = pound.run_model(scene.loaded)
+    events = result.contact.events
+    met = {(e["body_a"], e["body_b"]) for e in events}
+    assert ("a", "b") in met and ("b", "c") in met and ("c", "wall") in met
+    assert ("a", "c") not in met, "a and c never touch: b stands between them"
+    wall = events[events["body_b"] == "wall"]
+    assert (wall["floor_b"] == 0).all() and (wall["level"] == 1).all()
+    assert (wall["x"] > 24.0).all(), "the action point is at the wall's face"
+    assert result.balance_error_ratio < 1e-3
