@@ -35,7 +35,7 @@ def _propagators(a: np.ndarray, b: np.ndarray, h: float):
     aug[:n, n : n + k] = b * h
     aug[n : n + k, n + k :] = np.eye(k)
     e = scipy.linalg.expm(aug)
-    return e[:n, :n], e[:n, n : n + k], e[:n, n + k :]
+    return tuple(np.ascontiguousarray(block) for block in (e[:n, :n], e[:n, n : n + k], e[:n, n + k :]))
 
 
 @njit(cache=True)
