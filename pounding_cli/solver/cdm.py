@@ -37,9 +37,11 @@ E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = ra
 ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact", "balance_error")
 
 # accumulators carried between calls: input, damping and contact energy, their last powers,
-# and the number of steps with a contact
-ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS = range(7)
-N_ACC = 7
+# the number of steps with a contact, and a flag "no earlier power to integrate from" (set at
+# the start and when an integrator takes over at an instant already accounted for)
+(ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS,
+ ACC_FRESH) = range(8)  # fmt: skip
+N_ACC = 8
 
 STATUS_OK, STATUS_DIVERGED = 0, 1
 
@@ -133,6 +135,53 @@ def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, cent
             peak_acc[d] = abs(acc_abs[d])
 
 
+@kernel(inline="always")
+def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
+    """Trapezoidal step of the input, damping and contact work (powers in W over dt s)."""
+    if acc[ACC_FRESH] == 0.0:
+        acc[ACC_INPUT] += 0.5 * dt * (acc[ACC_P_INPUT] + p_in)
+        acc[ACC_DAMPING] += 0.5 * dt * (acc[ACC_P_DAMPING] + p_damp)
+        acc[ACC_CONTACT] += 0.5 * dt * (acc[ACC_P_CONTACT] + p_contact)
+    acc[ACC_FRESH] = 0.0
+    acc[ACC_P_INPUT] = p_in
+    acc[ACC_P_DAMPING] = p_damp
+    acc[ACC_P_CONTACT] = p_contact
+
+
+@kernel
+def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v, out_a, out_ground,
+                 out_energy, out_contact):  # fmt: skip
+    """Store the state at output sample k (ku = K·u at that instant); returns the largest
+    |u| (inf for NaN) for the divergence check."""
+    n_dof = mass.size
+    e_kin = 0.0
+    e_str = 0.0
+    worst = 0.0
+    for d in range(n_dof):
+        e_kin += 0.5 * mass[d] * v[d] * v[d]
+        e_str += 0.5 * u[d] * ku[d]
+        out_u[k, d] = u[d]
+        out_v[k, d] = v[d]
+        out_a[k, d] = a_abs[d]
+        if u[d] != u[d]:
+            worst = np.inf
+        elif abs(u[d]) > worst:
+            worst = abs(u[d])
+    out_ground[k, 0] = agx
+    out_ground[k, 1] = agy
+    out_energy[k, E_INPUT] = acc[ACC_INPUT]
+    out_energy[k, E_KINETIC] = e_kin
+    out_energy[k, E_STRAIN] = e_str
+    out_energy[k, E_DAMPING] = acc[ACC_DAMPING]
+    out_energy[k, E_HYSTERETIC] = 0.0
+    out_energy[k, E_CONTACT] = acc[ACC_CONTACT]
+    out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING] + acc[ACC_CONTACT])
+    for p in range(pair_now.shape[0]):
+        for c in range(pair_now.shape[1]):
+            out_contact[k, p, c] = pair_now[p, c]
+    return worst
+
+
 @kernel
 def advance(
     n_start, n_stop, dt, stride, u_limit,
@@ -196,44 +245,14 @@ def advance(
         for d in range(n_dof):
             p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
             p_contact -= fc[d] * v[d]
-        if n > 0:
-            acc[ACC_INPUT] += 0.5 * dt * (acc[ACC_P_INPUT] + p_in)
-            acc[ACC_DAMPING] += 0.5 * dt * (acc[ACC_P_DAMPING] + p_damp)
-            acc[ACC_CONTACT] += 0.5 * dt * (acc[ACC_P_CONTACT] + p_contact)
-        acc[ACC_P_INPUT] = p_in
-        acc[ACC_P_DAMPING] = p_damp
-        acc[ACC_P_CONTACT] = p_contact
+        accumulate_energy(acc, dt, p_in, p_damp, p_contact)
         # 8. peaks at every step
         update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
                      col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
         # 9. output and divergence check
         if n % stride == 0:
-            k = n // stride
-            e_kin = 0.0
-            e_str = 0.0
-            worst = 0.0
-            for d in range(n_dof):
-                e_kin += 0.5 * mass[d] * v[d] * v[d]
-                e_str += 0.5 * u[d] * ku[d]
-                out_u[k, d] = u[d]
-                out_v[k, d] = v[d]
-                out_a[k, d] = a_abs[d]
-                if u[d] != u[d]:
-                    worst = np.inf
-                elif abs(u[d]) > worst:
-                    worst = abs(u[d])
-            out_ground[k, 0] = agx
-            out_ground[k, 1] = agy
-            out_energy[k, E_INPUT] = acc[ACC_INPUT]
-            out_energy[k, E_KINETIC] = e_kin
-            out_energy[k, E_STRAIN] = e_str
-            out_energy[k, E_DAMPING] = acc[ACC_DAMPING]
-            out_energy[k, E_HYSTERETIC] = 0.0
-            out_energy[k, E_CONTACT] = acc[ACC_CONTACT]
-            out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING] + acc[ACC_CONTACT])
-            for p in range(pair_now.shape[0]):
-                for c in range(pair_now.shape[1]):
-                    out_contact[k, p, c] = pair_now[p, c]
+            worst = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
+                                 out_u, out_v, out_a, out_ground, out_energy, out_contact)  # fmt: skip
             if not worst <= u_limit:
                 return STATUS_DIVERGED, n + 1
         # 10. update to t_{n+1} (the ground entries stay zero)

@@ -191,6 +191,7 @@ def simulate(
     cdm.damping_force(v_half, stiffness_times(structure, v_half), structure.mass, structure.dof_a0,
                       structure.dof_a1, n_dof, cv_half)  # fmt: skip
     acc = np.zeros(cdm.N_ACC)
+    acc[cdm.ACC_FRESH] = 1.0
     acc[cdm.ACC_INPUT] = 0.5 * float(np.sum(structure.mass * v0[:n_dof] ** 2))  # an initial motion's energy
     n_col = structure.column_storey.size
     peaks = (np.zeros((n_col, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
