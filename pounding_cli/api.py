@@ -64,7 +64,7 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     contact = contact_arrays(loaded, system.buildings)
     ground = ground_motion(loaded)
     grid = time_grid(
-        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max
+        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt
     )
     if grid.n_steps > MAX_STEPS:
         raise InputError(
@@ -170,7 +170,9 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "notes": list(ground.notes),
         },
         "analysis": {
+            "integrator": grid.integrator,
             "dt_s": grid.dt,
+            "substep_s": grid.dt * grid.substep,
             "dt_auto": m.analysis.dt == "auto",
             "dt_auto_fraction": AUTO_DT_FRACTION,
             "stability_limit_s": grid.stability_limit,
@@ -197,11 +199,17 @@ def run_model(
     t0 = time.perf_counter()
     response = simulate(
         system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
-        contact=scene.contact if scene.contact.n_pairs else None,
+        contact=scene.contact if scene.contact.n_pairs else None, substep=grid.substep,
     )  # fmt: skip
     diagnostics = {
-        "integrator": "central difference",
+        "integrator": "hybrid (exact propagation, central difference around contacts)"
+        if grid.substep
+        else "central difference",
         "dt": grid.dt,
+        "substep": grid.dt * grid.substep,
+        "exact_substeps": response.exact_substeps,
+        "cdm_steps": response.cdm_steps,
+        "switches": response.switches,
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,
         "output_interval": grid.output_interval,

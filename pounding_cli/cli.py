@@ -196,8 +196,11 @@ def run_summary(result: Any) -> dict[str, Any]:
         "output": str(result.output) if result.output else None,
         "input_sha256": result.input_sha256,
         "duration_s": float(result.time[-1]) if result.time.size else 0.0,
+        "integrator": d.get("integrator", "").split(" ")[0],
         "dt_s": d.get("dt"),
         "steps": d.get("steps"),
+        "exact_substeps": d.get("exact_substeps", 0),
+        "cdm_steps": d.get("cdm_steps", 0),
         "solver_wall_time_s": d.get("wall_time_s"),
         "us_per_step": d.get("us_per_step"),
         "energy_balance_error": result.balance_error_ratio,
@@ -211,7 +214,7 @@ def run_summary(result: Any) -> dict[str, Any]:
 def _print_summary(s: dict[str, Any]) -> None:
     out.print(f"[bold]{s['status']}[/bold]  →  {s['output']}")
     out.print(
-        f"{s['duration_s']:.2f} s simulated in {s['steps']} steps of {s['dt_s']:.3g} s; "
+        f"{s['duration_s']:.2f} s simulated in {s['steps']} steps ({s['integrator']}); "
         f"solver {s['solver_wall_time_s']:.3f} s ({s['us_per_step']:.2f} µs/step); "
         f"energy balance error {100 * s['energy_balance_error']:.3g} % of input",
         markup=False,
@@ -280,6 +283,12 @@ def _print_description(info: dict[str, Any]) -> None:
     limits = f"stability limit {a['stability_limit_s']:.4g} s"
     if a.get("contact_limit_s"):
         limits += f", contact {a['contact_limit_s']:.4g} s"
+    if a["integrator"] == "hybrid":
+        out.print(
+            f"integrator: hybrid — exact substeps of {a['substep_s']:.4g} s while no contact is possible, "
+            f"the central difference method at Δt below",
+            markup=False,
+        )
     out.print(
         f"analysis: Δt = {a['dt_s']:.4g} s ({how}; {limits}), "
         f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",

@@ -101,7 +101,7 @@ def test_diverged_run_is_written_and_marked(tmp_path, monkeypatch):
     from pounding_cli import api
     from pounding_cli.assembly import TimeGrid
 
-    def beyond_the_limit(analysis, omega_max, duration, source, omega_contact=0.0):
+    def beyond_the_limit(analysis, omega_max, duration, *args):
         limit = 2 / omega_max
         return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
 
@@ -136,7 +136,8 @@ def test_impacts_written_and_read_back(tmp_path):
             assert f[f"impacts/{name}"].shape == (nt, 3)
         assert f["impacts/action_point"].shape == (nt, 3, 2)
         # the contact column of the energy is the work the contacts took; the balance closes
-        assert abs(f["energy"][:, 6]).max() < 1e-6 * f["energy"][:, 0].max()
+        # to the trapezoidal rule's error over the hybrid integrator's 1.1 ms substeps (~5e-5)
+        assert abs(f["energy"][:, 6]).max() < 1e-4 * f["energy"][:, 0].max()
     again = pound.read_hdf5(path)
     assert again.contact.events.tolist() == c.events.tolist()
     assert_array_equal(again.contact.normal_force, c.normal_force)

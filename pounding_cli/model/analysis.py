@@ -45,6 +45,12 @@ class Analysis(Strict):
     """Time step, s, or "auto": a fixed fraction of the central difference stability limit
     2/ω_max, adjusted so that it divides the output interval (see docs/theory.md)."""
 
+    integrator: Literal["auto", "hybrid", "cdm"] = "auto"
+    """"hybrid" (what "auto" chooses): the buildings advance exactly by their state-transition
+    matrices while no contact is possible, and by the central difference method at the
+    contact time step around impacts. "cdm": the central difference method at every step
+    (the paper's method)."""
+
     output_interval: Annotated[Positive, Field(le=10.0)] = 0.01
     """Interval of the stored time histories, s; rounded to a whole number of time steps.
     Peaks are taken at every step regardless."""

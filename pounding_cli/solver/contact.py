@@ -272,3 +272,41 @@ def buffers(n_vertices: int) -> tuple[np.ndarray, ...]:
         np.zeros(clip_rows, dtype=np.int64),
         np.zeros(16),
     )
+
+
+@kernel(inline="always")
+def _reach_over(body, u, v, acc, horizon, body_floor, body_radius):
+    """A body's displacement (u_x, u_y) and how much farther (along x, along y, by rotation)
+    it can move within `horizon` s from its velocity and acceleration, m."""
+    f = body_floor[body]
+    if f < 0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    half = 0.5 * horizon * horizon
+    grow_x = horizon * abs(v[3 * f]) + half * abs(acc[3 * f])
+    grow_y = horizon * abs(v[3 * f + 1]) + half * abs(acc[3 * f + 1])
+    turn = (abs(u[3 * f + 2]) + horizon * abs(v[3 * f + 2]) + half * abs(acc[3 * f + 2])) * body_radius[body]
+    return u[3 * f], u[3 * f + 1], grow_x, grow_y, turn
+
+
+@kernel
+def contact_possible_within(horizon, u, v, acc, geometry, params):
+    """True when some pair's bounding boxes, each widened by how far its body can move within
+    `horizon` s (velocity and acceleration now), overlap: a contact may begin that soon."""
+    body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
+    pair_a = params[0]
+    pair_b = params[1]
+    for p in range(pair_a.size):
+        a = pair_a[p]
+        b = pair_b[p]
+        ax, ay, agx, agy, ar = _reach_over(a, u, v, acc, horizon, body_floor, body_radius)
+        bx, by, bgx, bgy, br = _reach_over(b, u, v, acc, horizon, body_floor, body_radius)
+        if body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br:
+            continue
+        if body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar:
+            continue
+        if body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br:
+            continue
+        if body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar:
+            continue
+        return True
+    return False

@@ -13,8 +13,9 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from . import cdm
+from . import cdm, hybrid
 from . import contact as contact_kernel
+from .propagator import building_propagators
 
 DIVERGENCE_LIMIT = 100.0
 """A relative displacement beyond this many metres means the run has diverged."""
@@ -94,10 +95,14 @@ class Response:
     events_total: int  # episodes, including any beyond MAX_EVENTS
     contact_steps: int  # steps in which some pair was in contact
     dt: float
-    steps: int  # steps done
+    steps: int  # steps taken: CDM steps plus exact substeps
     wall_time: float  # s, time loop only
     status: str  # "complete" or "failed: …"
     compile_time: float = 0.0  # s, compiling or loading the kernel (first call in a process)
+    integrator: str = "cdm"  # "cdm", or "hybrid" (exact propagation, CDM around contacts)
+    exact_substeps: int = 0  # hybrid: substeps taken by exact propagation
+    cdm_steps: int = 0  # steps taken by the CDM
+    switches: int = 0  # hybrid: hand-overs between the two
 
 
 def ground_as_floor(structure: StructureArrays) -> np.ndarray:
@@ -112,19 +117,34 @@ def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
     return out
 
 
-def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(B⁻¹ blocks padded to (n_b, n_max, n_max), DOF start, DOF count) with B = M/Δt + C/2."""
+def building_dofs(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
+    """(first DOF, number of DOFs) of every building."""
     starts = 3 * np.asarray(structure.floor_start[:-1], dtype=np.int64)
     counts = 3 * np.diff(structure.floor_start).astype(np.int64)
-    n_max = int(counts.max())
-    binv = np.zeros((starts.size, n_max, n_max))
+    return starts, counts
+
+
+def stiffness_blocks(structure: StructureArrays) -> list[np.ndarray]:
+    """Dense K of every building, column by column from the solver's own storey kernel."""
+    starts, counts = building_dofs(structure)
     x = np.zeros(structure.mass.size + 3)
-    for b, (d0, n) in enumerate(zip(starts, counts)):
+    blocks = []
+    for d0, n in zip(starts, counts):
         k = np.empty((n, n))
-        for j in range(n):  # dense K of the building, column by column
+        for j in range(n):
             x[:] = 0.0
             x[d0 + j] = 1.0
             k[:, j] = stiffness_times(structure, x)[d0 : d0 + n]
+        blocks.append(k)
+    return blocks
+
+
+def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(B⁻¹ blocks padded to (n_b, n_max, n_max), DOF start, DOF count) with B = M/Δt + C/2."""
+    starts, counts = building_dofs(structure)
+    n_max = int(counts.max())
+    binv = np.zeros((starts.size, n_max, n_max))
+    for b, (d0, n, k) in enumerate(zip(starts, counts, stiffness_blocks(structure))):
         m = structure.mass[d0 : d0 + n]
         c = np.diag(structure.dof_a0[d0 : d0 + n] * m) + structure.dof_a1[d0] * k
         binv[b, :n, :n] = np.linalg.inv(np.diag(m / dt) + c / 2)
@@ -149,6 +169,13 @@ def bounding_boxes(contact: ContactData) -> np.ndarray:
     return box
 
 
+def _leading_good_rows(out_u: np.ndarray, out_energy: np.ndarray) -> int:
+    """How many output rows from the start were written and hold a sane state."""
+    with np.errstate(invalid="ignore"):
+        good = np.isfinite(out_energy[:, 0]) & (np.abs(out_u) <= DIVERGENCE_LIMIT).all(axis=1)
+    return int(good.size if good.all() else np.argmin(good))
+
+
 def simulate(
     structure: StructureArrays,
     ground: np.ndarray,
@@ -160,9 +187,14 @@ def simulate(
     chunk: int = 20_000,
     contact: ContactData | None = None,
     initial_velocity: np.ndarray | None = None,
+    substep: int = 0,
 ) -> Response:
     """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
 
+    substep = 0: the CDM at every step. substep = s > 0: the hybrid integrator, exact
+    propagation over substeps of s·dt while no contact is possible, the CDM at dt around
+    contacts (n_steps and stride must then be multiples of s, and s·dt must divide
+    ground_dt so that the ground acceleration is linear within each substep).
     The structure starts undeformed, at rest or with `initial_velocity` (n_dof,) relative to
     the ground, and out of contact.
     """
@@ -212,36 +244,57 @@ def simulate(
     fc = np.zeros(n_dof + 3)
     v_est = np.zeros(n_dof + 3)
     cbuf = contact_kernel.buffers(int(c.body_poly.shape[1]))
-    chunk = max(stride, chunk - chunk % stride)
+    cdm_args = (
+        structure.mass, structure.dof_a0, structure.dof_a1, structure.storey_k, bottom,
+        structure.storey_top, binv, starts, counts,
+        ground, ground_dt,
+        structure.storey_axes, centre, structure.column_storey, col_arm,
+        u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, out_contact, *work,
+        geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+    )  # fmt: skip
+    counters = np.zeros(3, dtype=np.int64)
+    if substep > 0:
+        if n_steps % substep or stride % substep:
+            raise ValueError("n_steps and stride must be multiples of substep")
+        h = substep * dt
+        phi, g0, g1 = building_propagators(
+            stiffness_blocks(structure), structure.mass, structure.dof_a0, structure.dof_a1, starts, counts, h
+        )
+        v_exact = v0.copy()
+        exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
+                      np.zeros(2 * phi.shape[1]), np.zeros(2 * phi.shape[1]), np.zeros(1, dtype=np.int64), counters)  # fmt: skip
+        unit, total = substep, n_steps // substep
 
-    def advance(start: int, stop: int) -> tuple[int, int]:
-        return cdm.advance(
-            start, stop, dt, stride, DIVERGENCE_LIMIT,
-            structure.mass, structure.dof_a0, structure.dof_a1, structure.storey_k, bottom,
-            structure.storey_top, binv, starts, counts,
-            ground, ground_dt,
-            structure.storey_axes, centre, structure.column_storey, col_arm,
-            u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, out_contact, *work,
-            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
-        )  # fmt: skip
+        def advance(start: int, stop: int) -> tuple[int, int]:
+            return hybrid.hybrid_advance(start, stop, h, substep, stride // substep, DIVERGENCE_LIMIT,
+                                         *exact_args, *cdm_args)  # fmt: skip
+    else:
+        unit, total = 1, n_steps
 
+        def advance(start: int, stop: int) -> tuple[int, int]:
+            status, done = cdm.advance(start, stop, dt, stride, DIVERGENCE_LIMIT, *cdm_args)
+            counters[hybrid.CNT_CDM] += done - start
+            return status, done
+
+    chunk = max(1, chunk // unit)
     t0 = time.perf_counter()
-    advance(0, 0)  # no steps: compiles the kernel, or loads it from numba's cache
+    advance(0, 0)  # nothing to do: compiles the kernel, or loads it from numba's cache
     compile_time = time.perf_counter() - t0
     status, done = cdm.STATUS_OK, 0
     wall = 0.0
     try:
-        while done <= n_steps and status == cdm.STATUS_OK:
-            stop = min(done + chunk, n_steps + 1)
+        while done <= total and status == cdm.STATUS_OK:
+            stop = min(done + chunk, total + 1)
             t0 = time.perf_counter()
             status, done = advance(done, stop)
             wall += time.perf_counter() - t0
             if progress is not None:
-                progress(min(done, n_steps), n_steps)
-            if done > n_steps:
+                progress(min(done, total), total)
+            if done > total:
                 break
     except KeyboardInterrupt:
         status = -1
+    done *= unit
     if status == cdm.STATUS_OK:
         text, valid = "complete", n_out
     elif status == cdm.STATUS_DIVERGED:
@@ -249,10 +302,10 @@ def simulate(
             f"failed: diverged at t = {(done - 1) * dt:.4g} s (a displacement exceeded "
             f"{DIVERGENCE_LIMIT:g} m or became NaN); Δt = {dt:.3g} s may be too large"
         )
-        valid = (done - 1) // stride
+        valid = _leading_good_rows(outs[0], out_energy)
     else:
         text = "failed: interrupted"
-        valid = int(np.count_nonzero(~np.isnan(out_energy[:, 0])))
+        valid = _leading_good_rows(outs[0], out_energy)
     cut = slice(0, valid)
     return Response(
         time=np.arange(valid) * stride * dt,
@@ -270,8 +323,12 @@ def simulate(
         events_total=int(n_events[0]),
         contact_steps=int(acc[cdm.ACC_CONTACT_STEPS]),
         dt=dt,
-        steps=min(done, n_steps),
+        steps=int(counters[hybrid.CNT_EXACT] + counters[hybrid.CNT_CDM]),
         wall_time=wall,
         status=text,
         compile_time=compile_time,
+        integrator="hybrid" if substep > 0 else "cdm",
+        exact_substeps=int(counters[hybrid.CNT_EXACT]),
+        cdm_steps=int(counters[hybrid.CNT_CDM]),
+        switches=int(counters[hybrid.CNT_SWITCHES]),
     )

@@ -1,0 +1,196 @@
+"""The hybrid integrator: exact propagation while no contact is possible, the central
+difference method (CDM) around impacts.
+
+While every pair of bodies is apart by more than it can close within the horizon, the
+buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
+interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
+error, only the sampling of peaks every h. When a contact may begin within 2h (bounding
+boxes widened by what velocity and acceleration can add), the loop hands the state to the
+CDM of cdm.py at the contact time step Δt = h/sub; it takes the state back at a substep
+boundary once every pair is out of contact and apart by more than 4h of motion.
+
+Hand-over (both second-order consistent):
+- exact → CDM at t_k: v_{k−½} = v_k − (Δt/2)·a_k, with a_k from the equation of motion
+  (no contact force: none is possible yet); C·v_{k−½} and K·u_k from the storey kernel.
+- CDM → exact at t_n: v_n = v_{n−½} + Δv_n/2, Δv_n from one more CDM residual (no contact).
+Energy keeps one trapezoidal account across both: each hand-over closes the interval it
+ends and marks the instant as counted.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cdm import (
+    ACC_FRESH,
+    STATUS_DIVERGED,
+    STATUS_OK,
+    accumulate_energy,
+    advance,
+    damping_force,
+    ground_at,
+    solve_blocks,
+    storey_matvec,
+    update_peaks,
+    write_output,
+)
+from .contact import contact_possible_within
+from .jit import kernel
+
+MODE_EXACT, MODE_CDM = 0, 1
+ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
+LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
+# counters
+CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
+
+
+@kernel
+def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k, bottom, top,
+                ground, ground_dt):  # fmt: skip
+    """K·u, C·v and the accelerations (absolute and relative) at time t from the state (u, v).
+    Returns the ground acceleration (X, Y) at t."""
+    agx, agy = ground_at(t, ground, ground_dt)
+    n_dof = mass.size
+    storey_matvec(u, storey_k, bottom, top, ku)
+    storey_matvec(v, storey_k, bottom, top, kv)
+    damping_force(v, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    for d in range(n_dof):
+        a_abs[d] = -(ku[d] + cv[d]) / mass[d]
+    for d in range(0, n_dof, 3):
+        a_rel[d] = a_abs[d] - agx
+        a_rel[d + 1] = a_abs[d + 1] - agy
+        a_rel[d + 2] = a_abs[d + 2]
+    return agx, agy
+
+
+@kernel
+def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y):
+    """(u, v) at t + h from (u, v) at t, exactly, building by building (x, y: scratch)."""
+    a0x, a0y = ground_at(t, ground, ground_dt)
+    a1x, a1y = ground_at(t + h, ground, ground_dt)
+    dx = a1x - a0x
+    dy = a1y - a0y
+    for b in range(dof_start.size):
+        d0 = dof_start[b]
+        n = dof_count[b]
+        for i in range(n):
+            x[i] = u[d0 + i]
+            x[n + i] = v[d0 + i]
+        for i in range(2 * n):
+            acc = g0[b, i, 0] * a0x + g0[b, i, 1] * a0y + g1[b, i, 0] * dx + g1[b, i, 1] * dy
+            for j in range(2 * n):
+                acc += phi[b, i, j] * x[j]
+            y[i] = acc
+        for i in range(n):
+            u[d0 + i] = y[i]
+            v[d0 + i] = y[n + i]
+
+
+@kernel
+def hybrid_advance(
+    k_start, k_stop, h, sub, stride_h, u_limit,
+    # exact propagation
+    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters,
+    # everything cdm.advance takes after its first five arguments
+    mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+    ground, ground_dt, storey_axes, centre, col_storey, col_arm,
+    u, v_half, ku, cv_half, acc,
+    peak_col, peak_rot, peak_disp, peak_acc,
+    out_u, out_v, out_a, out_ground, out_energy, out_contact,
+    r, dv, v, a_abs, z, cv_next, storey_work,
+    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+):  # fmt: skip
+    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done)."""
+    dt = h / sub
+    n_dof = mass.size
+    has_pairs = params[0].size > 0
+    for k in range(k_start, k_stop):
+        t = k * h
+        if mode[0] == MODE_EXACT:
+            # the state at t_k: forces, energy, peaks, output
+            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k,
+                                   storey_bottom, storey_top, ground, ground_dt)  # fmt: skip
+            p_in = 0.0
+            p_damp = 0.0
+            for d in range(0, n_dof, 3):
+                p_in -= mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
+            for d in range(n_dof):
+                p_damp += v_exact[d] * cv_next[d]
+            accumulate_energy(acc, h, p_in, p_damp, 0.0)
+            update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
+                         col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+            if k % stride_h == 0:
+                worst = write_output(k // stride_h, u, v_exact, a_abs, ku, agx, agy, mass, acc, pair_now,
+                                     out_u, out_v, out_a, out_ground, out_energy, out_contact)  # fmt: skip
+                if not worst <= u_limit:
+                    return STATUS_DIVERGED, k
+            if not (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params)):
+                propagate(t, h, u, v_exact, phi, g0, g1, dof_start, dof_count, ground, ground_dt, xbuf, ybuf)
+                counters[CNT_EXACT] += 1
+                continue
+            # a contact may begin soon: hand the state to the CDM at t_k
+            for d in range(n_dof):
+                v_half[d] = v_exact[d] - 0.5 * dt * a_rel[d]
+                dv[d] = dt * a_rel[d]
+            storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
+            damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_half)
+            acc[ACC_FRESH] = 1.0  # t_k is already integrated
+            mode[0] = MODE_CDM
+            counters[CNT_SWITCHES] += 1
+        # CDM through this substep
+        status, _ = advance(k * sub, (k + 1) * sub, dt, stride_h * sub, u_limit,
+                            mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+                            ground, ground_dt, storey_axes, centre, col_storey, col_arm,
+                            u, v_half, ku, cv_half, acc,
+                            peak_col, peak_rot, peak_disp, peak_acc,
+                            out_u, out_v, out_a, out_ground, out_energy, out_contact,
+                            r, dv, v, a_abs, z, cv_next, storey_work,
+                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf)  # fmt: skip
+        counters[CNT_CDM] += sub
+        if status != STATUS_OK:
+            return status, k
+        for d in range(n_dof):
+            a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
+        if _all_apart(pair_state) and not contact_possible_within(
+            LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params
+        ):
+            _leave_cdm((k + 1) * h, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
+                       storey_k, storey_bottom, storey_top, binv, dof_start, dof_count, ground, ground_dt,
+                       acc, cv_next)  # fmt: skip
+            mode[0] = MODE_EXACT
+            counters[CNT_SWITCHES] += 1
+    return STATUS_OK, k_stop
+
+
+@kernel
+def _all_apart(pair_state):
+    for p in range(pair_state.shape[0]):
+        if pair_state[p, 0] > 0:
+            return False
+    return True
+
+
+@kernel
+def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1, storey_k, bottom, top,
+               binv, dof_start, dof_count, ground, ground_dt, acc, cv):  # fmt: skip
+    """v_n = v_{n−½} + Δv_n/2 at t_n (no contact force), close the energy account up to t_n."""
+    n_dof = mass.size
+    agx, agy = ground_at(t, ground, ground_dt)
+    storey_matvec(u, storey_k, bottom, top, ku)
+    for d in range(0, n_dof, 3):
+        r[d] = -mass[d] * agx - ku[d] - cv_half[d]
+        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1]
+        r[d + 2] = -ku[d + 2] - cv_half[d + 2]
+    solve_blocks(binv, dof_start, dof_count, r, dv)
+    for d in range(n_dof):
+        v_exact[d] = v_half[d] + 0.5 * dv[d]
+    storey_matvec(v_exact, storey_k, bottom, top, kv)
+    damping_force(v_exact, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    p_in = 0.0
+    p_damp = 0.0
+    for d in range(0, n_dof, 3):
+        p_in -= mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
+    for d in range(n_dof):
+        p_damp += v_exact[d] * cv[d]
+    accumulate_energy(acc, dt, p_in, p_damp, 0.0)
+    acc[ACC_FRESH] = 1.0  # t_n is integrated; the exact loop starts from here
