@@ -149,6 +149,54 @@ def schema(
         raise typer.Exit(1)
 
 
+@app.command(
+    help="Describe a ground-motion record: metadata and intensity measures per component.\n\n"
+    "FILE is a record definition (.toml or .json: components L and T after its processing and "
+    "scaling) or a record file in any format pound reads (PEER .AT2, CSMIP/COSMOS V1/V2, "
+    "MiniSEED, SAC, K-NET, plain text: every trace, as read). Prints Δt, points, duration, "
+    "PGA, PGV, PGD (the acceleration integrated exactly as linear between samples, from rest), "
+    "Arias intensity and the 5-95 % significant duration of each component."
+)
+def record(
+    file: Annotated[Path, typer.Argument(help="Record definition (.toml, .json) or record file.", show_default=False)],
+    trace: Annotated[
+        str | None, typer.Option("--trace", help="Record file: the one trace to describe (SEED id, channel code or index).")
+    ] = None,
+    units: Annotated[
+        str | None,
+        typer.Option("--units", help="Record file: units of its values (g, m/s2, cm/s2, gal), for files that do not declare them."),
+    ] = None,
+    format: Annotated[
+        str, typer.Option("--format", help="Record file: auto, text, or an obspy format name (MSEED, SAC, AT2, COSMOS, KNET).")
+    ] = "auto",
+    dt: Annotated[
+        float | None, typer.Option("--dt", help="Record file: sample interval in s, for plain text with one value per line.")
+    ] = None,
+    json_: JsonOpt = False,
+    plot: Annotated[
+        Path | None,
+        typer.Option("--plot", help="Also draw acceleration, velocity, displacement and the 5 %-damped PSA spectrum (.png, .pdf, .svg)."),
+    ] = None,
+) -> None:
+    """Describe a ground-motion record."""
+    from .records.inspect import open_record
+    from .records.summary import summarise
+
+    with reported():
+        data = open_record(file, trace=trace, units=units, format=format, dt=dt)
+        summary = summarise(data).model_dump(mode="json")
+        if plot is not None:
+            from .records.plot import record_figure, save_figure
+
+            save_figure(record_figure(data), plot)
+    if json_:
+        print(json.dumps(summary, indent=2, ensure_ascii=False))
+    else:
+        _print_record(summary)
+    if plot is not None:
+        err.print(f"wrote {plot}", markup=False)
+
+
 # --- printing ---------------------------------------------------------------------------
 
 
@@ -294,6 +342,43 @@ def _print_description(info: dict[str, Any]) -> None:
         f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
         markup=False,
     )
+
+def _print_record(s: dict[str, Any]) -> None:
+    m = s["metadata"]
+    out.print(f"[bold]{m['name'] or s['file']}[/bold]  ({s['kind']} {s['file']})")
+    event = ", ".join(x for x in (m["event"], m["date"]) if x)
+    if m["magnitude"] is not None:
+        event += f"{', ' if event else ''}M {m['magnitude']:g}"
+    for label, text in (("event", event), ("station", ", ".join(x for x in (m["station"], m["network"]) if x)),
+                        ("source", m["source"]), ("notes", m["notes"])):  # fmt: skip
+        if text:
+            out.print(f"{label}: {text}", markup=False)
+    out.print(f"processing: {'; '.join(s['processing']) if s['processing'] else 'none'}", markup=False)
+    table = Table()
+    table.add_column("")
+    for c in s["components"]:
+        table.add_column(c["name"], justify="right")
+    rows = [
+        ("file", lambda c: Path(c["file"]).name + (f" [{c['trace_id']}]" if c["trace_id"] else "")),
+        ("azimuth", lambda c: "-" if c["azimuth_deg"] is None else f"{c['azimuth_deg']:g}°"),
+        ("Δt (s)", lambda c: f"{c['dt_s']:g}"),
+        ("points", lambda c: str(c["points"])),
+        ("duration (s)", lambda c: f"{c['duration_s']:.2f}"),
+        ("PGA (g)", lambda c: f"{c['pga_g']:.4f} at {c['pga_time_s']:.2f} s"),
+        ("PGA (m/s²)", lambda c: f"{c['pga_m_s2']:.4g}"),
+        ("PGV (m/s)", lambda c: f"{c['pgv_m_s']:.4g} at {c['pgv_time_s']:.2f} s"),
+        ("PGD (m)", lambda c: f"{c['pgd_m']:.4g} at {c['pgd_time_s']:.2f} s"),
+        ("Arias intensity (m/s)", lambda c: f"{c['arias_intensity_m_s']:.4g}"),
+        ("D5-95 (s)", lambda c: f"{c['significant_duration_s']:.2f} ({c['t5_s']:.2f}-{c['t95_s']:.2f} s)"),
+    ]
+    for label, cell in rows:
+        table.add_row(label, *(cell(c) for c in s["components"]))
+    out.print(table)
+    if s["scale_factor"] != 1.0:
+        out.print(f"scale factor: {s['scale_factor']:.6g}", markup=False)
+    for note in s["notes"]:
+        out.print(f"note: {note}", markup=False)
+    out.print("PGV, PGD: " + s["integration"], markup=False)
 
 
 def main() -> None:

@@ -1,22 +1,52 @@
-"""JSON Schemas of the input files, generated from the pydantic models."""
+"""JSON Schemas of pound's files, generated from the pydantic models that validate them.
+
+- ``model.schema.json``: a model file (TOML or JSON: same structure);
+- ``record.schema.json``: a record definition file (``*.record.toml`` / ``.json``), the
+  same table a model may hold inline as ``[excitation.record]``;
+- ``record-summary.schema.json``: the document ``pound record --json`` prints.
+"""
 
 from __future__ import annotations
 
 import json
-
-from .model import PoundModel
+from typing import Any
 
 SCHEMA_BASE = "https://pound.invalid/schemas/"
+DIALECT = "https://json-schema.org/draft/2020-12/schema"
+
+
+def _published(schema: dict[str, Any], name: str) -> dict[str, Any]:
+    schema["$schema"] = DIALECT
+    schema["$id"] = SCHEMA_BASE + name
+    return schema
 
 
 def model_schema() -> dict:
     """JSON Schema of a model file (TOML or JSON: same structure)."""
-    schema = PoundModel.model_json_schema(mode="validation")
-    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
-    schema["$id"] = SCHEMA_BASE + "model.schema.json"
-    return schema
+    from .model import PoundModel
+
+    return _published(PoundModel.model_json_schema(mode="validation"), "model.schema.json")
+
+
+def record_schema() -> dict:
+    """JSON Schema of a record definition file (TOML or JSON: same structure)."""
+    from .model.record import Record
+
+    return _published(Record.model_json_schema(mode="validation"), "record.schema.json")
+
+
+def record_summary_schema() -> dict:
+    """JSON Schema of the document `pound record --json` prints."""
+    from .records.summary import summary_schema
+
+    return _published(summary_schema(), "record-summary.schema.json")
 
 
 def schema_files() -> dict[str, str]:
     """File name → text of every schema pound publishes."""
-    return {"model.schema.json": json.dumps(model_schema(), indent=2, ensure_ascii=False) + "\n"}
+    schemas = {
+        "model.schema.json": model_schema(),
+        "record.schema.json": record_schema(),
+        "record-summary.schema.json": record_summary_schema(),
+    }
+    return {name: json.dumps(s, indent=2, ensure_ascii=False) + "\n" for name, s in schemas.items()}

@@ -118,7 +118,8 @@ def test_every_field_has_a_description():
 def test_every_shipped_input_validates(path):
     if "shared/records" in path.read_text() and not SHARED.exists():
         pytest.skip("the model reads a record kept in ../shared, which is absent")
-    r = runner.invoke(app, ["validate", str(path)])
+    command = "record" if path.name.endswith((".record.toml", ".record.json")) else "validate"
+    r = runner.invoke(app, [command, str(path)])  # a record definition is checked by `pound record`
     assert r.exit_code == 0, r.output
 
 

@@ -1,6 +1,7 @@
 """Convert the 2019 Ridgecrest CI.CCC record (CSMIP/COSMOS V1 text) to a processed MiniSEED file.
 
-Standalone: ``python inputs/records/make_ridgecrest_mseed.py [--source RAW] [--output MSEED]``.
+Standalone: ``python inputs/records/make_ridgecrest_mseed.py [--source RAW] [--output MSEED]``,
+with pound installed (``obspy.read`` reads the COSMOS file through pound's reader plugin).
 Reads the horizontal channels 1 (90 deg, East -> HNE) and 2 (360 deg, North -> HNN)
 of ``CICCC.RAW``, corrects and band-passes them, trims them to the strong-motion
 window and writes them in m/s² as FLOAT64 MiniSEED. See README.md beside this
@@ -11,11 +12,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
+import obspy
 from obspy import Stream, Trace, UTCDateTime
 
 HERE = Path(__file__).resolve().parent
@@ -30,76 +30,27 @@ ARIAS_START, ARIAS_END = 0.05, 0.95  # fractions of Arias intensity bounding sig
 PRE_EVENT, POST_EVENT = 5.0, 15.0  # s kept before the 5 % time and after the 95 % time
 END_TAPER = 1.0  # s of cosine taper at each end of the trimmed window
 
-_POINTS_LINE = re.compile(
-    r"^\s*(\d+)\s+Accelerogram points at\s+(\d+)\s+pts/sec in units of\s+(\S+?)\.\s+"
-    r"Format:\s*\((\d+)f(\d+)\.\d+\)"
-)
-_START_LINE = re.compile(r"Start time:\s*(\d+)/(\d+)/(\d+),\s*(\d+):(\d+):([\d.]+)\s*UTC")
-_CHANNEL_LINE = re.compile(r"^Chan\s+(\d+):\s*(\S+)")
 
+def read_channels(path: Path) -> Stream:
+    """The horizontal channels 1 (HNE) and 2 (HNN) of the COSMOS V1 file, in m/s².
 
-class RawChannel(NamedTuple):
-    """One channel of a COSMOS V1 file: uncorrected acceleration in the file's units."""
-
-    number: int
-    orientation: str  # azimuth in degrees as written ("90", "360") or "Up"
-    start: UTCDateTime
-    sampling_rate: float  # Hz
-    units: str
-    data: np.ndarray
-
-
-def parse_cosmos_v1(path: Path) -> dict[int, RawChannel]:
-    """Parse every channel of a CSMIP/COSMOS V1 text file, keyed by channel number."""
-    lines = path.read_text(encoding="ascii").splitlines()
-    channels: dict[int, RawChannel] = {}
-    start = number = orientation = None
-    for index, line in enumerate(lines):
-        if found := _START_LINE.search(line):
-            start = _utc(found)
-        elif found := _CHANNEL_LINE.match(line):
-            number, orientation = int(found.group(1)), found.group(2)
-        elif found := _POINTS_LINE.match(line):
-            count, rate, units = int(found.group(1)), float(found.group(2)), found.group(3)
-            per_line, width = int(found.group(4)), int(found.group(5))
-            data = _fixed_width(lines[index + 1 :], per_line, width)
-            if data.size != count:
-                raise ValueError(
-                    f"{path}: channel {number}: read {data.size} points, header says {count}"
-                )
-            channels[number] = RawChannel(number, orientation, start, rate, units, data)
-    return channels
-
-
-def _utc(found: re.Match[str]) -> UTCDateTime:
-    """UTC time from a ``Start time:  M/DD/YY, HH:MM:SS.S UTC`` match (two-digit years are 20YY)."""
-    month, day, year, hour, minute = (int(found.group(i)) for i in range(1, 6))
-    return UTCDateTime(2000 + year, month, day, hour, minute) + float(found.group(6))
-
-
-def _fixed_width(lines: list[str], per_line: int, width: int) -> np.ndarray:
-    """Read Fortran ``(per_line f width.d)`` values up to the ``/&`` end-of-data line.
-
-    Fields are cut by column, not by whitespace: neighbouring values may touch.
+    ``obspy.read`` finds pound's COSMOS reader through its entry points (pound must be
+    installed): it parses the fixed-width data blocks, checks each channel's point count and
+    converts g to m/s² (x 9.80665). Only the standard header is kept.
     """
-    values: list[float] = []
-    for line in lines:
-        if line.startswith("/&"):
-            break
-        for k in range(per_line):
-            field = line[k * width : (k + 1) * width]
-            if field.strip():
-                values.append(float(field))
-    return np.array(values, dtype=np.float64)
-
-
-def to_trace(channel: RawChannel, code: str) -> Trace:
-    """A CI.CCC trace in m/s² from a raw channel in g."""
-    if channel.units != "g":
-        raise ValueError(f"channel {channel.number}: expected units of g, found {channel.units!r}")
-    header = {"network": "CI", "station": "CCC", "location": "", "channel": code,
-              "sampling_rate": channel.sampling_rate, "starttime": channel.start}
-    return Trace(data=channel.data * G, header=header)
+    stream = obspy.read(str(path), format="COSMOS")
+    out = Stream()
+    for number, (azimuth, code) in CHANNELS.items():
+        found = [tr for tr in stream if tr.stats.cosmos.channel_number == number]
+        if len(found) != 1 or found[0].stats.cosmos.orientation != azimuth or found[0].stats.channel != code:
+            raise ValueError(f"{path}: channel {number} should have azimuth {azimuth} deg ({code})")
+        tr = found[0]
+        if tr.stats.cosmos.units_in_file != "g":
+            raise ValueError(f"channel {number}: expected units of g, found {tr.stats.cosmos.units_in_file!r}")
+        header = {"network": "CI", "station": "CCC", "location": "", "channel": code,
+                  "sampling_rate": tr.stats.sampling_rate, "starttime": tr.stats.starttime}
+        out.append(Trace(data=tr.data, header=header))
+    return out
 
 
 def correct(trace: Trace) -> None:
@@ -140,9 +91,9 @@ def strong_motion_window(stream: Stream) -> tuple[UTCDateTime, UTCDateTime]:
     return start + first, start + last
 
 
-def corrected(channels: dict[int, RawChannel]) -> Stream:
+def corrected(stream: Stream) -> Stream:
     """Corrected, band-passed HNE/HNN stream in m/s², cut to the span both channels cover."""
-    stream = Stream([to_trace(channels[n], code) for n, (_, code) in CHANNELS.items()])
+    stream = stream.copy()
     for trace in stream:
         correct(trace)
     stream.trim(max(tr.stats.starttime for tr in stream), min(tr.stats.endtime for tr in stream))
@@ -155,13 +106,6 @@ def windowed(stream: Stream) -> Stream:
     for trace in out:
         trace.taper(max_percentage=None, max_length=END_TAPER, type="cosine")
     return out
-
-
-def check_orientations(channels: dict[int, RawChannel]) -> None:
-    """Refuse a file whose channels 1 and 2 are not the expected East and North azimuths."""
-    for number, (azimuth, code) in CHANNELS.items():
-        if number not in channels or channels[number].orientation != azimuth:
-            raise ValueError(f"channel {number} should have azimuth {azimuth} deg for {code}")
 
 
 def report(full: Stream, shipped: Stream) -> None:
@@ -187,9 +131,7 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not args.source.is_file():
         parser.error(f"no such file: {args.source.resolve()}")
-    channels = parse_cosmos_v1(args.source.resolve())
-    check_orientations(channels)
-    full = corrected(channels)
+    full = corrected(read_channels(args.source.resolve()))
     shipped = windowed(full)
     shipped.write(str(args.output), format="MSEED", encoding="FLOAT64")
     report(full, shipped)

@@ -17,6 +17,11 @@ A plain-text record is a single trace: ``trace`` must be None or ``"0"``.
 
 Pickled obspy streams are refused: unpickling a file can run arbitrary code.
 
+Units: pound's own readers (AT2, COSMOS) convert to m/s² and say what the file held; K-NET
+and KiK-net files (obspy's KNET reader) hold counts and a calibration, which is applied
+(counts × ``stats.calib`` = m/s²). Other formats carry raw values in the unit the caller
+names. ``units=None`` accepts only files that declare their units.
+
 Traces sharing the selected id (a channel split into segments) are merged when
 they join up exactly (no gap, identical overlap); a record with a gap or with
 conflicting overlap is refused rather than filled with invented data.
@@ -27,9 +32,9 @@ from __future__ import annotations
 import glob
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,14 +55,21 @@ class Accelerogram:
     ``acceleration[i]`` is the ground acceleration (m/s²) at time ``i * dt``
     after the first sample; ``dt`` is the sample interval (s). ``source`` says
     where it came from; ``start_time`` is the ISO UTC time of the first sample
-    when the file records it. The array is stored as a read-only C-contiguous
-    float64 copy. Compared by identity (``eq=False``: arrays have no single truth value).
+    when the file records it. ``trace_id`` is the obspy trace id (None for plain
+    text), ``units_in_file`` the unit of the file's values (as the file or the
+    caller names it) and ``header`` what the file says about the record (station,
+    event, azimuth, ...: JSON-ready, see :func:`file_header`). The array is stored
+    as a read-only C-contiguous float64 copy. Compared by identity (``eq=False``:
+    arrays have no single truth value).
     """
 
     dt: float
     acceleration: np.ndarray
     source: str
     start_time: str | None = None
+    trace_id: str | None = None
+    units_in_file: str | None = None
+    header: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.dt) and self.dt > 0.0):
@@ -79,37 +91,105 @@ def read_accelerogram(
     path: str | Path,
     *,
     trace: str | None = None,
-    units: str = "m/s2",
+    units: str | None = "m/s2",
     format: str = "auto",
     dt: float | None = None,
 ) -> Accelerogram:
     """Read a ground-acceleration record and return it in m/s².
 
-    ``units`` is the unit of the values in the file (a key of :data:`UNIT_FACTORS`).
-    ``format`` is ``"auto"`` (obspy, then plain text), ``"text"`` (plain text
-    only) or an obspy format name such as ``"MSEED"`` or ``"SAC"``. ``dt`` (s) is
-    required for one-column plain text; elsewhere it is optional and must agree
-    with the file's own sample interval to within 1e-6 relative.
+    ``units`` is the unit of the values in the file (a key of :data:`UNIT_FACTORS`), or
+    None to accept only a file that declares its units. ``format`` is ``"auto"`` (obspy,
+    then plain text), ``"text"`` (plain text only) or an obspy format name such as
+    ``"MSEED"`` or ``"SAC"``. ``dt`` (s) is required for one-column plain text; elsewhere
+    it is optional and must agree with the file's own sample interval to within 1e-6 relative.
     """
-    factor = _unit_factor(units)
+    return _read(path, units, format, dt, trace, every=False)[0]
+
+
+def read_accelerograms(
+    path: str | Path, *, units: str | None = "m/s2", format: str = "auto", dt: float | None = None
+) -> list[Accelerogram]:
+    """Every trace of a file, one :class:`Accelerogram` per trace id in file order (segments
+    of one id joined); the arguments are those of :func:`read_accelerogram`."""
+    return _read(path, units, format, dt, None, every=True)
+
+
+def _read(
+    path: str | Path, units: str | None, format: str, dt: float | None, trace: str | None, every: bool
+) -> list[Accelerogram]:
+    """Check the arguments and the file, then read it with obspy or as plain text."""
+    factor = None if units is None else _unit_factor(units)
     _check_dt_argument(dt)
     path = Path(path)
     _check_file(path)
-    if format.lower() == "text":
-        step, values = _read_text(_decode(path), path, trace, dt)
-        source, start_time, declared = str(path), None, None
+    stream = None if format.lower() == "text" else _obspy_read(path, format)
+    if stream is None:
+        return [_text_record(_text_of(path, format), path, trace, dt, units, factor)]
+    if every:
+        ids = list(dict.fromkeys(tr.id for tr in stream))
+        if not ids:
+            raise RecordReadError(f"{path}: holds no traces")
+        chosen = [_merge_segments(stream.select(id=i), i, path) for i in ids]
     else:
-        step, values, source, start_time, declared = _read_obspy_or_text(path, trace, format, dt)
-    if declared is not None:  # a self-describing format, already converted to m/s² by its reader
-        if factor not in (1.0, UNIT_FACTORS.get(declared.strip().lower().replace(" ", ""), None)):
+        chosen = [_select_trace(stream, trace, path)]
+    return [_trace_record(tr, path, dt, units, factor) for tr in chosen]
+
+
+def _text_of(path: Path, format: str) -> str:
+    """The file as text; for ``format='auto'`` a binary file is one obspy did not know."""
+    if format.lower() == "text":
+        return _decode(path)
+    try:
+        return _decode(path)
+    except NotPlainText as err:
+        raise RecordReadError(f"{path}: neither a format obspy reads nor plain text ({err.reason})") from err
+
+
+def _text_record(
+    text: str, path: Path, trace: str | None, dt: float | None, units: str | None, factor: float | None
+) -> Accelerogram:
+    """A plain-text record in m/s²: its values times the unit factor the caller gave."""
+    step, values = _read_text(text, path, trace, dt)
+    if factor is None:
+        raise RecordReadError(
+            f"{path}: plain text does not say in which units its values are; "
+            f"give units ({', '.join(UNIT_FACTORS)})",
+            field="units",
+        )
+    _check_samples(step, values, path)
+    return Accelerogram(step, values * factor, str(path), None, None, units)
+
+
+def _trace_record(trace: Trace, path: Path, dt: float | None, units: str | None, factor: float | None) -> Accelerogram:
+    """An obspy trace as an Accelerogram in m/s², with the file's header."""
+    from pounding_cli.records.header import file_header
+
+    step = float(trace.stats.delta)
+    _check_dt_agrees(dt, step, path)
+    try:
+        values = np.asarray(trace.data, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise RecordReadError(f"{path}: {trace.id} does not hold real numbers ({err})") from err
+    declared = _declared_units(trace)
+    if declared is not None:  # the file says its units: converted (or calibrated) to m/s²
+        in_file, key, calibration = declared
+        if factor not in (None, 1.0, UNIT_FACTORS.get(key)):
             raise RecordReadError(
-                f"{path}: the file declares its values in {declared} (pound converts them to m/s²); "
-                f"'units' = {units!r} contradicts it: write {declared!r} or 'm/s2'",
+                f"{path}: the file declares its values in {in_file} (pound converts them to m/s²); "
+                f"'units' = {units!r} contradicts it: write {key!r} or 'm/s2'",
                 field="units",
             )
-        factor = 1.0
+        values, units, factor = values * calibration if calibration != 1.0 else values, in_file, 1.0
+    elif factor is None:
+        raise RecordReadError(
+            f"{path}: {trace.id} does not say in which units its values are "
+            f"({trace.stats.get('_format', 'this format')} holds raw numbers); "
+            f"give units ({', '.join(UNIT_FACTORS)})",
+            field="units",
+        )
     _check_samples(step, values, path)
-    return Accelerogram(step, values * factor, source, start_time)
+    return Accelerogram(step, values * factor, f"{path} [{trace.id}]", str(trace.stats.starttime),
+                        trace.id, units, file_header(trace))
 
 
 def _unit_factor(units: str) -> float:
@@ -154,37 +234,20 @@ def _decode(path: Path) -> str:
         raise RecordReadError(f"{path}: cannot read the file ({err.strerror or err})") from err
 
 
-def _read_obspy_or_text(
-    path: Path, trace: str | None, format: str, dt: float | None
-) -> tuple[float, np.ndarray, str, str | None, str | None]:
-    """Read with obspy; with ``format='auto'`` fall back to plain text if obspy does not know it."""
-    stream = _obspy_read(path, format)
-    if stream is None:
-        try:
-            text = _decode(path)
-        except NotPlainText as err:
-            raise RecordReadError(
-                f"{path}: neither a format obspy reads nor plain text ({err.reason})"
-            ) from err
-        step, values = _read_text(text, path, trace, dt)
-        return step, values, str(path), None, None
-    selected = _select_trace(stream, trace, path)
-    step = float(selected.stats.delta)
-    _check_dt_agrees(dt, step, path)
-    try:
-        values = np.asarray(selected.data, dtype=np.float64)
-    except (TypeError, ValueError) as err:
-        raise RecordReadError(f"{path}: {selected.id} does not hold real numbers ({err})") from err
-    return step, values, f"{path} [{selected.id}]", str(selected.stats.starttime), _declared_units(selected)
+def _declared_units(trace: Trace) -> tuple[str, str, float] | None:
+    """(units as the file names them, the matching key of UNIT_FACTORS, factor still to
+    apply) when the file says what its values are; None for raw values (MiniSEED, SAC, ...).
 
-
-def _declared_units(trace: Trace) -> str | None:
-    """The file's own units when pound's plugin reader (AT2, COSMOS) already converted the
-    data to SI; None for formats that carry raw values (MiniSEED, SAC, ...)."""
+    pound's own readers (AT2, COSMOS) have already converted to m/s²; K-NET/KiK-net files
+    read by obspy hold counts whose ``stats.calib`` is m/s² per count.
+    """
     for key in ("at2", "cosmos"):
         info = trace.stats.get(key)
         if info is not None and info.get("units") == "m/s2":
-            return str(info.get("units_in_file"))
+            in_file = str(info.get("units_in_file"))
+            return in_file, in_file.strip().lower().replace(" ", ""), 1.0
+    if trace.stats.get("knet") is not None:
+        return "counts × calib (K-NET scale factor, to m/s²)", "m/s2", float(trace.stats.calib)
     return None
 
 
@@ -303,6 +366,12 @@ def _check_dt_agrees(dt: float | None, step: float, path: Path) -> None:
             f"{path}: given dt = {dt:.9g} s disagrees with the file's sample interval {step:.9g} s",
             field="dt",
         )
+
+
+def with_values(record: Accelerogram, values: np.ndarray, dt: float | None = None, note: str = "") -> Accelerogram:
+    """A copy of `record` holding other samples (processed), optionally at another interval."""
+    source = f"{record.source} ({note})" if note else record.source
+    return replace(record, acceleration=values, dt=record.dt if dt is None else dt, source=source)
 
 
 def _check_samples(dt: float, values: np.ndarray, path: Path) -> None:

@@ -69,12 +69,15 @@ def test_script_reproduces_shipped_file(tmp_path):
 
 
 @needs_raw
-def test_fixed_width_parser_finds_raw_peak():
-    channels = load_script().parse_cosmos_v1(RAW)
-    assert [channels[n].data.size for n in (1, 2, 3)] == [35430, 35402, 35406]
-    east = channels[1]
-    assert (east.orientation, east.units, east.sampling_rate) == ("90", "g", 100.0)
-    assert str(east.start) == "2019-07-06T03:19:37.000000Z"
+def test_script_reads_the_raw_file_through_the_obspy_plugin():
+    """The script reads CICCC.RAW with obspy.read (pound's COSMOS plugin): the horizontal
+    channels with their own lengths, in m/s², and the header's raw peak."""
+    stream = load_script().read_channels(RAW)
+    assert [tr.stats.channel for tr in stream] == ["HNE", "HNN"]
+    assert [tr.stats.npts for tr in stream] == [35430, 35402]
+    east = stream[0]
+    assert east.stats.sampling_rate == 100.0
+    assert str(east.stats.starttime) == "2019-07-06T03:19:37.000000Z"
     peak = int(np.argmax(np.abs(east.data)))
-    assert abs(east.data[peak]) == pytest.approx(0.567, abs=0.0005)  # header: Max = -.567 g
-    assert peak / east.sampling_rate == pytest.approx(39.41, abs=0.01)  # at 39.410 sec
+    assert abs(east.data[peak]) / UNIT_FACTORS["g"] == pytest.approx(0.567, abs=0.0005)  # header: Max = -.567 g
+    assert peak / east.stats.sampling_rate == pytest.approx(39.41, abs=0.01)  # at 39.410 sec
