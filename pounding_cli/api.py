@@ -157,10 +157,14 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "omega_max_rad_s": contact.omega_max,
         },
         "excitation": {
-            "record": m.excitation.record.name,
+            "record": ground.record.name if ground.record is not None else "",
+            "record_file": str(ground.record_file) if ground.record_file is not None else None,
             "components": list(m.excitation.components),
             "angle_deg": m.excitation.angle,
             "scale": m.excitation.scale,
+            "processing": ground.record.processing.steps() if ground.record is not None else [],
+            "record_scale_factor": ground.record_factor,
+            "directions_X_Y": {name: list(d) for name, d in ground.directions.items()},
             "dt_s": ground.dt,
             "duration_s": ground.duration,
             "pga_g": {

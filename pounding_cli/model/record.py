@@ -195,7 +195,7 @@ class Processing(Strict):
 def _describe_filter(f: Filter) -> str:
     phase = "zero-phase" if f.zerophase else "causal"
     if f.freqmin is not None and f.freqmax is not None:
-        band = f"band-pass {f.freqmin:g}–{f.freqmax:g} Hz"
+        band = f"band-pass {f.freqmin:g}-{f.freqmax:g} Hz"
     elif f.freqmin is not None:
         band = f"high-pass {f.freqmin:g} Hz"
     else:

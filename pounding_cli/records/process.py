@@ -84,7 +84,7 @@ def _window(trace: object, processing: Processing, record: Accelerogram) -> None
     end = duration if w.end is None else w.end
     if w.start >= duration or end > duration + 0.5 * record.dt:
         raise ProcessingError(
-            f"{record.source}: window {w.start:g}–{end:g} s is not inside the record, which lasts "
+            f"{record.source}: window {w.start:g}-{end:g} s is not inside the record, which lasts "
             f"{duration:g} s from its first sample",
             field="window.end" if w.start < duration else "window.start",
         )
@@ -92,7 +92,7 @@ def _window(trace: object, processing: Processing, record: Accelerogram) -> None
     trace.trim(first + w.start, first + end, nearest_sample=True)
     if trace.stats.npts < 2:
         raise ProcessingError(
-            f"{record.source}: window {w.start:g}–{end:g} s holds {trace.stats.npts} sample(s) "
+            f"{record.source}: window {w.start:g}-{end:g} s holds {trace.stats.npts} sample(s) "
             f"at Δt = {record.dt:g} s; a record needs at least two",
             field="window",
         )
