@@ -10,11 +10,17 @@ no pyplot state.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
 
 from pounding_cli.errors import InputError
 from pounding_cli.records.inspect import RecordData
 from pounding_cli.records.metrics import G, integrate
 from pounding_cli.records.spectrum import DAMPING, DEFAULT_PERIODS, pseudo_acceleration
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 FORMATS = ("png", "pdf", "svg")
 """File types --plot writes, by the file's suffix."""
@@ -29,7 +35,7 @@ LABELS = {
 }
 
 
-def record_figure(data: RecordData, periods=DEFAULT_PERIODS):  # -> matplotlib.figure.Figure
+def record_figure(data: RecordData, periods: np.ndarray = DEFAULT_PERIODS) -> Figure:
     """The four-panel figure of `data` (axes in the order acceleration, velocity,
     displacement, spectrum)."""
     from matplotlib.figure import Figure
@@ -58,7 +64,7 @@ def record_figure(data: RecordData, periods=DEFAULT_PERIODS):  # -> matplotlib.f
     return figure
 
 
-def save_figure(figure, path: str | Path) -> None:
+def save_figure(figure: Figure, path: str | Path) -> None:
     """Write `figure` to `path` (.png, .pdf or .svg); InputError naming the file otherwise."""
     path = Path(path)
     kind = path.suffix.lower().lstrip(".")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +12,7 @@ import pounding_cli as pound
 from pounding_cli.assembly.ground import ground_motion
 from pounding_cli.errors import InputError
 from pounding_cli.model import read_document, validate_model
-from pounding_cli.model.record import Record, load_record
+from pounding_cli.model.record import load_record, validate_record
 
 from conftest import EXAMPLE, INPUTS, SHARED, example_doc
 
@@ -27,8 +26,6 @@ COMPONENT = {"file": "records/ridgecrest2019_ccc.mseed", "trace": "HNE", "units"
 
 def record_error(data: dict) -> str:
     with pytest.raises(InputError) as info:
-        from pounding_cli.model.record import validate_record
-
         validate_record(data, "r.record.toml")
     return str(info.value)
 
