@@ -197,9 +197,16 @@ def run_model(
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
     marked by its status). Check `result.complete`."""
     scene = prepare(model)
-    loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     if output is not None:
         check_output_path(Path(output))
+    return execute(scene, output, progress)
+
+
+def execute(
+    scene: Scene, output: str | Path | None = None, progress: Callable[[int, int], None] | None = None
+) -> RunResult:
+    """Integrate a prepared scene (its time grid may be replaced, as `pound bench` does)."""
+    loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     t0 = time.perf_counter()
     response = simulate(
         system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,

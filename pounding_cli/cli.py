@@ -197,6 +197,69 @@ def record(
         err.print(f"wrote {plot}", markup=False)
 
 
+@app.command(
+    help="Measure run time against error, and stress-test stability.\n\n"
+    "For every scene (the shipped ones, or --scene files), a reference run at a far smaller Δt, "
+    "then each integrator setting, timed (median of --repeats, solver only) and compared with "
+    "the reference. Prints the table and writes bench.h5, bench.md and bench.png into --out. "
+    "--quick: a short version for CI (under 2 minutes)."
+)
+def bench(
+    scene: Annotated[list[Path] | None, typer.Option("--scene", help="A model file to bench (repeatable).")] = None,
+    out_dir: Annotated[Path, typer.Option("--out", help="Folder for bench.h5, bench.md, bench.png.")] = Path("bench-results"),
+    quick: Annotated[
+        bool, typer.Option("--quick", help="Three settings, the first 15 s of each scene but the stiff one, one repeat.")
+    ] = False,
+    repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per setting (median).", min=1)] = 3,
+    stability: Annotated[
+        bool, typer.Option("--stability", help="Run the stability stress cases instead (stability.md).")
+    ] = False,
+    json_: JsonOpt = False,
+) -> None:
+    """Measure run time against error."""
+    from .bench import SETTINGS, bench as run_bench, scene_files
+    from .bench.report import markdown, plot, table_rows, write_hdf5
+    from .bench.run import QUICK_SETTINGS
+
+    if stability:
+        from dataclasses import asdict
+
+        from .bench.stability import markdown as stability_markdown, stability as run_stability
+
+        with reported():
+            out_dir.mkdir(parents=True, exist_ok=True)
+            outcomes = run_stability(log=lambda text: err.print(text, markup=False))
+            text = stability_markdown(outcomes)
+            (out_dir / "stability.md").write_text(text, encoding="utf-8")
+        if json_:
+            print(json.dumps([{**asdict(o), "acceptable": o.acceptable} for o in outcomes], indent=2))
+        else:
+            out.print(text, markup=False)
+        if not all(o.acceptable for o in outcomes):
+            raise typer.Exit(1)
+        return
+
+    models = list(scene) if scene else scene_files()
+    if quick and not scene:
+        models = [m for m in models if m.stem != "stiff_contact"]
+    with reported():
+        out_dir.mkdir(parents=True, exist_ok=True)
+        reports = run_bench(
+            models, QUICK_SETTINGS if quick else SETTINGS, repeats=1 if quick else repeats,
+            reference_divisor=2 if quick else 4, duration=15.0 if quick else None,
+            log=lambda text: err.print(text, markup=False),
+        )  # fmt: skip
+        text = markdown(reports)
+        (out_dir / "bench.md").write_text(text, encoding="utf-8")
+        write_hdf5(reports, out_dir / "bench.h5")
+        plot(reports, out_dir / "bench.png")
+    if json_:
+        print(json.dumps(table_rows(reports), indent=2))
+    else:
+        out.print(text, markup=False)
+        out.print(f"written: {out_dir / 'bench.md'}, {out_dir / 'bench.h5'}, {out_dir / 'bench.png'}", markup=False)
+
+
 # --- printing ---------------------------------------------------------------------------
 
 
@@ -342,6 +405,7 @@ def _print_description(info: dict[str, Any]) -> None:
         f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
         markup=False,
     )
+
 
 def _print_record(s: dict[str, Any]) -> None:
     m = s["metadata"]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -81,9 +82,9 @@ def test_failed_run_exits_1_and_keeps_marked_file(tmp_path, monkeypatch):
     out = tmp_path / "x.h5"
     r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(out)])
     assert r.exit_code == 1
-    assert "failed: diverged" in r.stderr
+    assert re.search(r"failed: (diverged|unstable) at t = ", r.stderr)
     with h5py.File(out) as f:
-        assert f.attrs["status"].startswith("failed: diverged")
+        assert re.match(r"failed: (diverged|unstable)", f.attrs["status"])
 
 
 def test_schemas_are_in_sync():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import h5py
 import numpy as np
@@ -108,9 +109,9 @@ def test_diverged_run_is_written_and_marked(tmp_path, monkeypatch):
     # the input check refuses such a step, so bypass the time-grid choice
     monkeypatch.setattr(api, "time_grid", beyond_the_limit)
     result = pound.run_model(EXAMPLE, output=tmp_path / "x.h5")
-    assert result.status.startswith("failed: diverged at t =")
+    assert re.match(r"failed: (diverged|unstable) at t = ", result.status)
     with h5py.File(tmp_path / "x.h5") as f:
-        assert f.attrs["status"].startswith("failed: diverged")
+        assert re.match(r"failed: (diverged|unstable)", f.attrs["status"])
         n = f["time"].shape[0]
         assert 0 < n < 2000
         assert np.isfinite(f["buildings/left/displacement"][()]).all()

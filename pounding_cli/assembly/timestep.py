@@ -71,8 +71,11 @@ def time_grid(
     source: str = "",
     omega_contact: float = 0.0,
     record_dt: float | None = None,
+    dt_fraction: float = AUTO_DT_FRACTION,
+    sampling: float = HYBRID_SAMPLING,
 ) -> TimeGrid:
-    """Choose the integrator, Δt, the output stride and the step count for an analysis."""
+    """Choose the integrator, Δt, the output stride and the step count for an analysis
+    (dt_fraction and sampling: the defaults' knobs, for `pound bench`)."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
     if analysis.dt != "auto" and float(analysis.dt) >= limit:
@@ -83,12 +86,12 @@ def time_grid(
             file=source or None,
             field="analysis.dt",
         )
-    target = AUTO_DT_FRACTION * min(limit, contact_limit) if analysis.dt == "auto" else float(analysis.dt)
+    target = dt_fraction * min(limit, contact_limit) if analysis.dt == "auto" else float(analysis.dt)
     duration = analysis.duration if analysis.duration is not None else record_duration
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)
     if hybrid and record_dt is not None:
-        h, stride_h = _substeps(record_dt, out, HYBRID_SAMPLING / omega_max)
+        h, stride_h = _substeps(record_dt, out, sampling / omega_max)
         sub = max(1, math.ceil(h / target - 1e-9))
         dt = h / sub
         stride = stride_h * sub

@@ -40,10 +40,15 @@ ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact"
 # the number of steps with a contact, and a flag "no earlier power to integrate from" (set at
 # the start and when an integrator takes over at an instant already accounted for)
 (ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS,
- ACC_FRESH) = range(8)  # fmt: skip
-N_ACC = 8
+ ACC_FRESH, ACC_ENERGY_FLOOR) = range(9)  # fmt: skip
+N_ACC = 9
 
-STATUS_OK, STATUS_DIVERGED = 0, 1
+STATUS_OK, STATUS_DIVERGED, STATUS_ENERGY = 0, 1, 2
+
+ENERGY_LIMIT = 0.05
+"""A run whose energy balance error passes this fraction of the energy in play has gone
+unstable (a healthy run stays below 1e-4): it stops with STATUS_ENERGY. Energies below
+acc[ACC_ENERGY_FLOOR] (the structure moving at 1 cm/s) are too small to judge."""
 
 
 @kernel(inline="always")
@@ -150,9 +155,10 @@ def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
 
 @kernel
 def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v, out_a, out_ground,
-                 out_energy, out_contact):  # fmt: skip
-    """Store the state at output sample k (ku = K·u at that instant); returns the largest
-    |u| (inf for NaN) for the divergence check."""
+                 out_energy, out_contact, u_limit):  # fmt: skip
+    """Store the state at output sample k (ku = K·u at that instant); returns STATUS_OK, or
+    STATUS_DIVERGED when a displacement passes u_limit or is NaN, or STATUS_ENERGY when the
+    energy balance error passes ENERGY_LIMIT of the energy in play."""
     n_dof = mass.size
     e_kin = 0.0
     e_str = 0.0
@@ -179,7 +185,12 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
     for p in range(pair_now.shape[0]):
         for c in range(pair_now.shape[1]):
             out_contact[k, p, c] = pair_now[p, c]
-    return worst
+    if not worst <= u_limit:
+        return STATUS_DIVERGED
+    in_play = max(abs(acc[ACC_INPUT]), e_kin + e_str + acc[ACC_DAMPING] + abs(acc[ACC_CONTACT]))
+    if abs(out_energy[k, E_BALANCE]) > ENERGY_LIMIT * in_play and in_play > acc[ACC_ENERGY_FLOOR]:
+        return STATUS_ENERGY
+    return STATUS_OK
 
 
 @kernel
@@ -251,10 +262,10 @@ def advance(
                      col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
         # 9. output and divergence check
         if n % stride == 0:
-            worst = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
-                                 out_u, out_v, out_a, out_ground, out_energy, out_contact)  # fmt: skip
-            if not worst <= u_limit:
-                return STATUS_DIVERGED, n + 1
+            status = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
+                                  out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit)  # fmt: skip
+            if status != STATUS_OK:
+                return status, n + 1
         # 10. update to t_{n+1} (the ground entries stay zero)
         for d in range(n_dof):
             u[d] += dt * v_half[d]

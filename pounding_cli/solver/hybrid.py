@@ -23,7 +23,6 @@ import numpy as np
 
 from .cdm import (
     ACC_FRESH,
-    STATUS_DIVERGED,
     STATUS_OK,
     accumulate_energy,
     advance,
@@ -120,10 +119,10 @@ def hybrid_advance(
             update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
                          col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
             if k % stride_h == 0:
-                worst = write_output(k // stride_h, u, v_exact, a_abs, ku, agx, agy, mass, acc, pair_now,
-                                     out_u, out_v, out_a, out_ground, out_energy, out_contact)  # fmt: skip
-                if not worst <= u_limit:
-                    return STATUS_DIVERGED, k
+                status = write_output(k // stride_h, u, v_exact, a_abs, ku, agx, agy, mass, acc, pair_now,
+                                      out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit)  # fmt: skip
+                if status != STATUS_OK:
+                    return status, k
             if not (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params)):
                 propagate(t, h, u, v_exact, phi, g0, g1, dof_start, dof_count, ground, ground_dt, xbuf, ybuf)
                 counters[CNT_EXACT] += 1

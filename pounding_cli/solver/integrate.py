@@ -111,9 +111,20 @@ def ground_as_floor(structure: StructureArrays) -> np.ndarray:
 
 
 def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
-    """K·x for a vector of n_dof + 3 entries (ground last), by the solver's own kernel."""
-    out = np.empty_like(x)
-    cdm.storey_matvec(x, structure.storey_k, ground_as_floor(structure), structure.storey_top, out)
+    """K·x for a vector of n_dof + 3 entries (ground last), storey by storey, with numpy (for
+    set-up: calling a compiled kernel from Python would load it from numba's cache)."""
+    dofs = np.array([0, 1, 2])
+    index = np.hstack([3 * ground_as_floor(structure)[:, None] + dofs, 3 * structure.storey_top[:, None] + dofs])
+    out = np.zeros_like(x)
+    np.add.at(out, index, np.einsum("sij,sj->si", structure.storey_k, x[index]))
+    return out
+
+
+def damping_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
+    """C·x = a0·M·x + a1·K·x for a vector of n_dof + 3 entries (the ground entries stay 0)."""
+    n = structure.mass.size
+    out = np.zeros_like(x)
+    out[:n] = structure.dof_a0 * structure.mass * x[:n] + structure.dof_a1 * stiffness_times(structure, x)[:n]
     return out
 
 
@@ -210,20 +221,17 @@ def simulate(
     v0 = np.zeros(n_dof + 3)
     if initial_velocity is not None:
         v0[:n_dof] = initial_velocity
-    c_v0 = np.zeros(n_dof + 3)
-    cdm.damping_force(v0, stiffness_times(structure, v0), structure.mass, structure.dof_a0,
-                      structure.dof_a1, n_dof, c_v0)  # fmt: skip
+    c_v0 = damping_times(structure, v0)
     a0 = np.zeros(n_dof + 3)
     a0[0:n_dof:3] = -ground[0, 0]
     a0[1:n_dof:3] = -ground[0, 1]
     a0[:n_dof] -= c_v0[:n_dof] / structure.mass
     v_half = v0 - 0.5 * dt * a0
     v_half[n_dof:] = 0.0
-    cv_half = np.zeros(n_dof + 3)
-    cdm.damping_force(v_half, stiffness_times(structure, v_half), structure.mass, structure.dof_a0,
-                      structure.dof_a1, n_dof, cv_half)  # fmt: skip
+    cv_half = damping_times(structure, v_half)
     acc = np.zeros(cdm.N_ACC)
     acc[cdm.ACC_FRESH] = 1.0
+    acc[cdm.ACC_ENERGY_FLOOR] = 0.5 * float(structure.mass[0::3].sum()) * 0.01**2  # at 1 cm/s
     acc[cdm.ACC_INPUT] = 0.5 * float(np.sum(structure.mass * v0[:n_dof] ** 2))  # an initial motion's energy
     n_col = structure.column_storey.size
     peaks = (np.zeros((n_col, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
@@ -301,6 +309,13 @@ def simulate(
         text = (
             f"failed: diverged at t = {(done - 1) * dt:.4g} s (a displacement exceeded "
             f"{DIVERGENCE_LIMIT:g} m or became NaN); Δt = {dt:.3g} s may be too large"
+        )
+        valid = _leading_good_rows(outs[0], out_energy)
+    elif status == cdm.STATUS_ENERGY:
+        text = (
+            f"failed: unstable at t = {(done - 1) * dt:.4g} s (the energy balance error passed "
+            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play); Δt = {dt:.3g} s is too large for the "
+            'contact stiffness: use dt = "auto" or a smaller step'
         )
         valid = _leading_good_rows(outs[0], out_energy)
     else:

@@ -1,0 +1,124 @@
+"""The benchmark's table, HDF5 file and work-precision plot."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .run import SceneReport, on_front
+
+
+def table_rows(reports: list[SceneReport]) -> list[dict]:
+    """One dict per (scene, setting), JSON-ready."""
+    out = []
+    for report in reports:
+        front = on_front(report)
+        for row in report.rows:
+            e = row.errors
+            out.append(
+                {
+                    "scene": row.scene,
+                    "setting": row.setting.name,
+                    "integrator": row.setting.integrator,
+                    "default": row.setting.default,
+                    "on_front": row.setting.name in front,
+                    "steps": row.steps,
+                    "contact_steps": row.contact_steps,
+                    "wall_time_s": row.wall_time,
+                    "peak_deflection_error": e.peak_deflection,
+                    "peak_deflection_error_normwise": e.peak_deflection_norm,
+                    "peak_force_error": e.peak_force,
+                    "impact_count_difference": e.impact_count,
+                    "energy_balance_error": e.energy_balance,
+                }
+            )
+    return out
+
+
+def markdown(reports: list[SceneReport]) -> str:
+    """The table as Markdown, one section per scene, with the reference's convergence."""
+    lines = []
+    for report in reports:
+        c = report.convergence
+        lines.append(
+            f"**{report.scene}** — reference: {report.reference.name}, {report.reference_steps:,} steps; "
+            f"halving its Δt changes peak deflections by {c.peak_deflection:.1e} (normwise "
+            f"{c.peak_deflection_norm:.1e}) and the peak force by {c.peak_force:.1e} (impacts {c.impact_count:+d})\n"
+        )
+        lines.append("| setting | steps | contact steps | solver (s) | peak deflection error | normwise "
+                     "| peak force error | impacts Δ | energy balance | front |")  # fmt: skip
+        lines.append("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | :---: |")
+        front = on_front(report)
+        for row in report.rows:
+            e = row.errors
+            name = f"**{row.setting.name}**" if row.setting.default else row.setting.name
+            lines.append(
+                f"| {name} | {row.steps:,} | {row.contact_steps:,} | {row.wall_time:.3g} | "
+                f"{e.peak_deflection:.1e} | {e.peak_deflection_norm:.1e} | {e.peak_force:.1e} | {e.impact_count:+d} | "
+                f"{e.energy_balance:.1e} | "
+                f"{'●' if row.setting.name in front else ''} |"
+            )
+        lines.append("")
+    return "\n".join(lines)
+
+
+def write_hdf5(reports: list[SceneReport], path: Path) -> None:
+    """The table as a compound dataset /bench (written atomically)."""
+    import h5py
+
+    rows = table_rows(reports)
+    dtype = np.dtype(
+        [("scene", h5py.string_dtype()), ("setting", h5py.string_dtype()), ("integrator", h5py.string_dtype()),
+         ("default", np.bool_), ("on_front", np.bool_), ("steps", np.int64), ("contact_steps", np.int64),
+         ("wall_time_s", np.float64), ("peak_deflection_error", np.float64),
+         ("peak_deflection_error_normwise", np.float64), ("peak_force_error", np.float64),
+         ("impact_count_difference", np.int64), ("energy_balance_error", np.float64)]
+    )  # fmt: skip
+    table = np.array([tuple(r[name] for name in dtype.names) for r in rows], dtype=dtype)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with h5py.File(tmp, "w") as f:
+        ds = f.create_dataset("bench", data=table)
+        ds.attrs["units"] = "-, -, -, -, -, -, -, s, -, -, -, -, -"
+        from .. import __version__
+
+        f.attrs["pound_version"] = __version__
+        for report in reports:
+            f.attrs[f"reference:{report.scene}"] = report.reference.name
+    os.replace(tmp, path)
+
+
+def plot(reports: list[SceneReport], path: Path):
+    """Work-precision plot: error against solver time, log-log, one panel per scene. Returns
+    the matplotlib Figure (saved to `path`, written atomically)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(reports)
+    cols = min(n, 3)
+    fig, axes = plt.subplots((n + cols - 1) // cols, cols, figsize=(5 * cols, 4 * ((n + cols - 1) // cols)),
+                             squeeze=False)  # fmt: skip
+    for ax, report in zip(axes.flat, reports):
+        for integrator, marker in (("hybrid", "o"), ("cdm", "s")):
+            rows = [r for r in report.rows if r.setting.integrator == integrator]
+            ax.loglog([r.wall_time for r in rows], [max(r.errors.peak_deflection, 1e-9) for r in rows], marker,
+                      label=f"{integrator}: peak deflection", linestyle="none")  # fmt: skip
+        default = next((r for r in report.rows if r.setting.default), None)
+        if default is not None:
+            ax.loglog([default.wall_time], [max(default.errors.peak_deflection, 1e-9)], "*", markersize=14,
+                      color="k", label="default")  # fmt: skip
+        ax.set_title(report.scene)
+        ax.set_xlabel("solver time (s)")
+        ax.set_ylabel("largest relative error of a peak deflection")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.png")
+    fig.savefig(tmp, dpi=110)
+    os.replace(tmp, path)
+    return fig

@@ -1,0 +1,135 @@
+"""Running the benchmark: scenes × integrator settings, timed and compared with a reference."""
+
+from __future__ import annotations
+
+import dataclasses
+import statistics
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Callable
+
+from ..api import Scene, execute, prepare
+from ..assembly.timestep import AUTO_DT_FRACTION, HYBRID_SAMPLING, time_grid
+from ..results import RunResult
+from .metrics import Errors, compare
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One way to integrate a scene."""
+
+    name: str
+    integrator: str  # "cdm" or "hybrid"
+    dt_fraction: float = AUTO_DT_FRACTION  # Δt (CDM, or the hybrid's contact steps) / (2/ω_max)
+    dt: float | None = None  # a fixed Δt instead, s
+    sampling: float = HYBRID_SAMPLING  # hybrid: ω_max·h
+    default: bool = False
+
+
+SETTINGS = (
+    Setting("hybrid (default)", "hybrid", default=True),
+    Setting("hybrid, ω·h ≤ 0.4", "hybrid", sampling=0.4),
+    Setting("hybrid, ω·h ≤ 0.1", "hybrid", sampling=0.1),
+    Setting("hybrid, contact Δt × 2", "hybrid", dt_fraction=2 * AUTO_DT_FRACTION),
+    Setting("cdm, Δt = 0.2·2/ω", "cdm", dt_fraction=0.2),
+    Setting("cdm, Δt = 0.1·2/ω", "cdm", dt_fraction=0.1),
+    Setting("cdm, Δt = 0.05·2/ω", "cdm", dt_fraction=0.05),
+    Setting("cdm, Δt = 2e-5 s (paper)", "cdm", dt=2e-5),
+    Setting("cdm, Δt = 1e-5 s (paper)", "cdm", dt=1e-5),
+)
+QUICK_SETTINGS = tuple(s for s in SETTINGS if s.name in ("hybrid (default)", "cdm, Δt = 0.05·2/ω", "cdm, Δt = 2e-5 s (paper)"))
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the table."""
+
+    scene: str
+    setting: Setting
+    steps: int
+    contact_steps: int
+    wall_time: float  # s, median of the repeats, time loop only
+    errors: Errors
+
+
+@dataclass(frozen=True)
+class SceneReport:
+    """A scene's reference and its rows."""
+
+    scene: str
+    reference: Setting
+    reference_steps: int
+    convergence: Errors  # the reference against the same at half its Δt
+    rows: list[Row]
+
+
+def scene_files() -> list[Path]:
+    """The shipped benchmark scenes."""
+    folder = resources.files("pounding_cli.bench") / "scenes"
+    return sorted(Path(str(p)) for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def with_setting(scene: Scene, setting: Setting, duration: float | None = None) -> Scene:
+    """The scene with its time grid chosen by `setting` (and its duration cut if asked)."""
+    analysis = scene.loaded.model.analysis.model_copy(
+        update={"integrator": setting.integrator, "dt": setting.dt if setting.dt is not None else "auto",
+                "duration": duration if duration is not None else scene.loaded.model.analysis.duration}  # fmt: skip
+    )
+    grid = time_grid(
+        analysis, scene.system.omega_max, scene.ground.duration, str(scene.loaded.source),
+        scene.contact.omega_max, scene.ground.dt, setting.dt_fraction, setting.sampling,
+    )  # fmt: skip
+    return dataclasses.replace(scene, grid=grid)
+
+
+def timed(scene: Scene, repeats: int) -> tuple[RunResult, float]:
+    """A run of the scene and the median solver time over `repeats` runs."""
+    runs = [execute(scene) for _ in range(repeats)]
+    return runs[0], statistics.median(r.diagnostics["wall_time_s"] for r in runs)
+
+
+def bench(
+    models: list[Path],
+    settings: tuple[Setting, ...] = SETTINGS,
+    repeats: int = 3,
+    reference_divisor: int = 4,
+    duration: float | None = None,
+    log: Callable[[str], None] = lambda _: None,
+) -> list[SceneReport]:
+    """Benchmark every model under every setting; the reference is the CDM at
+    AUTO_DT_FRACTION/reference_divisor of the stability limit, checked against half that."""
+    reports = []
+    for path in models:
+        base = prepare(path)
+        name = Path(path).stem
+        fine = Setting(f"cdm, Δt = {AUTO_DT_FRACTION / reference_divisor:g}·2/ω (reference)", "cdm",
+                       dt_fraction=AUTO_DT_FRACTION / reference_divisor)  # fmt: skip
+        finer = dataclasses.replace(fine, dt_fraction=fine.dt_fraction / 2)
+        log(f"{name}: reference")
+        reference = execute(with_setting(base, fine, duration))
+        check = execute(with_setting(base, finer, duration))
+        rows = []
+        for setting in settings:
+            log(f"{name}: {setting.name}")
+            run, wall = timed(with_setting(base, setting, duration), repeats)
+            rows.append(Row(name, setting, run.diagnostics["steps"], run.diagnostics["contact_steps"], wall,
+                            compare(run, reference)))  # fmt: skip
+        reports.append(SceneReport(name, fine, reference.diagnostics["steps"], compare(reference, check), rows))
+    return reports
+
+
+def on_front(report: SceneReport) -> set[str]:
+    """Settings that no other setting beats on both solver time and error."""
+    def error(row: Row) -> float:
+        return max(row.errors.peak_deflection, row.errors.peak_force)
+
+    front = set()
+    for row in report.rows:
+        dominated = any(
+            o.wall_time <= row.wall_time and error(o) <= error(row) and (o.wall_time < row.wall_time or error(o) < error(row))
+            for o in report.rows
+        )
+        if not dominated:
+            front.add(row.setting.name)
+    return front
