@@ -214,6 +214,9 @@ def bench(
     stability: Annotated[
         bool, typer.Option("--stability", help="Run the stability stress cases instead (stability.md).")
     ] = False,
+    scaling: Annotated[
+        bool, typer.Option("--scaling", help="Measure cost against 1, 5, 10, 20 buildings in a row (scaling.md).")
+    ] = False,
     json_: JsonOpt = False,
 ) -> None:
     """Measure run time against error."""
@@ -221,6 +224,18 @@ def bench(
     from .bench.report import markdown, plot, table_rows, write_hdf5
     from .bench.run import QUICK_SETTINGS
 
+    if scaling:
+        from dataclasses import asdict
+
+        from .bench.scaling import markdown as scaling_markdown, scaling as run_scaling
+
+        with reported():
+            out_dir.mkdir(parents=True, exist_ok=True)
+            points = run_scaling(log=lambda text: err.print(text, markup=False))
+            text = scaling_markdown(points)
+            (out_dir / "scaling.md").write_text(text, encoding="utf-8")
+        print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
+        return
     if stability:
         from dataclasses import asdict
 

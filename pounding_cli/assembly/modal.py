@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 
 @dataclass(frozen=True)
@@ -32,7 +31,10 @@ def modes(stiffness: np.ndarray, mass: np.ndarray, rotation: float) -> Modes:
 
     `rotation` (rad) is the building's x axis from global X, used for the participation axes.
     """
-    lam, phi = scipy.linalg.eigh(stiffness, np.diag(mass))
+    # M is diagonal: K·φ = ω²·M·φ is the symmetric problem M^-½·K·M^-½·ψ = ω²·ψ, φ = M^-½·ψ
+    scale = 1.0 / np.sqrt(mass)
+    lam, psi = np.linalg.eigh(scale[:, None] * stiffness * scale[None, :])
+    phi = scale[:, None] * psi
     lam = np.clip(lam, 0.0, None)
     c, s = np.cos(rotation), np.sin(rotation)
     influence = np.zeros((mass.size, 3))

@@ -7,14 +7,14 @@ linear in time (h divides the record's sample interval), the solution is exact:
     x(t + h) = Φ·x(t) + Γ₀·a_g(t) + Γ₁·(a_g(t + h) − a_g(t))
 
 with Φ, Γ₀, Γ₁ blocks of the matrix exponential of [[A·h, B·h, 0], [0, 0, I], [0, 0, 0]]
-(first-order hold). They are computed once per building here, with scipy, and applied by the
-compiled loop in hybrid.py.
+(first-order hold). They are computed once per building here and applied by the compiled
+loop in hybrid.py.
 """
 
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
+from .expm import expm
 
 
 def building_propagators(
@@ -44,7 +44,7 @@ def building_propagators(
         aug[: 2 * n, : 2 * n] = a * h
         aug[: 2 * n, 2 * n : 2 * n + 2] = bmat * h
         aug[2 * n : 2 * n + 2, 2 * n + 2 :] = np.eye(2)
-        e = scipy.linalg.expm(aug)
+        e = expm(aug)
         phi[b, : 2 * n, : 2 * n] = e[: 2 * n, : 2 * n]
         g0[b, : 2 * n] = e[: 2 * n, 2 * n : 2 * n + 2]
         g1[b, : 2 * n] = e[: 2 * n, 2 * n + 2 :]
