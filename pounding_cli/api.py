@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import signal
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -86,12 +89,19 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     return Scene(loaded, system, contact, ground, grid)
 
 
-def check_output_path(path: Path) -> None:
-    """Refuse, before any work, an output whose folder is missing or which is a folder."""
+def check_output_path(path: Path, force: bool = False) -> None:
+    """Before any work: refuse a folder, an existing file (unless force) and an unwritable
+    place; create a missing folder."""
     if path.is_dir():
         raise InputError("is a folder; give a file name for the results, e.g. out.h5", file=path)
-    if not path.parent.is_dir():
-        raise InputError(f"the folder {str(path.parent)!r} does not exist; create it first", file=path)
+    if path.exists() and not force:
+        raise InputError("exists; choose another name or pass --force to overwrite it", file=path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the folder {str(path.parent)!r} ({exc.strerror})", file=path) from None
+    if not os.access(path.parent, os.W_OK):
+        raise InputError(f"the folder {str(path.parent)!r} is not writable", file=path)
 
 
 def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
@@ -193,13 +203,43 @@ def run_model(
     model: str | Path | LoadedModel,
     output: str | Path | None = None,
     progress: Callable[[int, int], None] | None = None,
+    force: bool = False,
 ) -> RunResult:
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
     marked by its status). Check `result.complete`."""
     scene = prepare(model)
     if output is not None:
-        check_output_path(Path(output))
-    return execute(scene, output, progress)
+        check_output_path(Path(output), force)
+    with terminate_as_interrupt():
+        return execute(scene, output, progress)
+
+
+def where_it_failed(system: System, dof: int) -> str:
+    """'first at building 'left', floor 3 (u_x)' for a global DOF index."""
+    floor = dof // 3
+    b = int(np.searchsorted(system.floor_start, floor, side="right")) - 1
+    level = floor - int(system.floor_start[b]) + 1
+    return f"first at building {system.buildings[b].name!r}, floor {level} ({('u_x', 'u_y', 'θ')[dof % 3]})"
+
+
+class terminate_as_interrupt:
+    """Within the block, SIGTERM interrupts like Ctrl-C: the time loop stops between chunks,
+    the partial results are written marked "failed: interrupted", and the run exits 1.
+    (Only in the main thread, where Python delivers signals.)"""
+
+    def __enter__(self) -> "terminate_as_interrupt":
+        self.previous = None
+        if threading.current_thread() is threading.main_thread():
+            self.previous = signal.signal(signal.SIGTERM, self._interrupt)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.previous is not None:
+            signal.signal(signal.SIGTERM, self.previous)
+
+    @staticmethod
+    def _interrupt(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt
 
 
 def execute(
@@ -236,6 +276,8 @@ def execute(
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }
+    if response.failure_dof >= 0:
+        response.status += "; " + where_it_failed(system, response.failure_dof)
     result = collect(
         system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics, scene.contact
     )

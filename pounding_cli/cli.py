@@ -89,8 +89,9 @@ def validate(model: ModelArg, json_: JsonOpt = False) -> None:
 @app.command(
     help="Run one analysis and write its results to HDF5.\n\n"
     "Time histories, peak interstorey deflections of every column, the energy balance. "
-    "A run that fails (diverges, is interrupted) still writes its partial results, marked "
-    "in the file's status, and exits 1."
+    "A run that fails (diverges, is interrupted by Ctrl-C or SIGTERM) still writes its partial "
+    "results, marked in the file's status, and exits 1. An existing output file is not "
+    "overwritten without --force; a missing output folder is created."
 )
 def run(
     model: ModelArg,
@@ -102,6 +103,7 @@ def run(
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
     ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists.")] = False,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
     from .api import run_model
@@ -110,7 +112,7 @@ def run(
     show = sys.stderr.isatty() if progress is None else progress
     with reported():
         with _progress_bar(show) as bar:
-            result = run_model(model, output=target, progress=bar)
+            result = run_model(model, output=target, progress=bar, force=force)
     summary = run_summary(result)
     if json_:
         print(json.dumps(summary, indent=2))

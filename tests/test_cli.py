@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -124,10 +125,32 @@ def test_every_shipped_input_validates(path):
     assert r.exit_code == 0, r.output
 
 
-def test_missing_output_folder_is_refused_before_running(tmp_path):
-    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(tmp_path / "no" / "x.h5")])
+def test_output_paths(tmp_path):
+    """A missing output folder is created; an existing file is refused without --force
+    (exit 2, nothing changed) and overwritten with it."""
+    target = tmp_path / "new" / "deeper" / "x.h5"
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(target)])
+    assert r.exit_code == 0, r.output
+    stamp = target.stat().st_mtime_ns
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(target)])
     assert r.exit_code == 2
-    assert "does not exist; create it first" in r.stderr
+    assert "exists; choose another name or pass --force" in r.stderr
+    assert target.stat().st_mtime_ns == stamp
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(target), "--force"])
+    assert r.exit_code == 0, r.output
+
+
+
+def test_unwritable_output_folder_is_refused(tmp_path, monkeypatch):
+    """A folder the user cannot write to is exit 2 naming it, before any work (simulated: the
+    tests may run as root, who can write anywhere)."""
+    from pounding_cli import api
+
+    real = os.access
+    monkeypatch.setattr(api.os, "access", lambda path, mode: False if str(path) == str(tmp_path) else real(path, mode))
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(tmp_path / "x.h5")])
+    assert r.exit_code == 2
+    assert f"the folder {str(tmp_path)!r} is not writable" in r.stderr
     assert list(tmp_path.iterdir()) == []
 
 

@@ -103,6 +103,7 @@ class Response:
     exact_substeps: int = 0  # hybrid: substeps taken by exact propagation
     cdm_steps: int = 0  # steps taken by the CDM
     switches: int = 0  # hybrid: hand-overs between the two
+    failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
 
 
 def ground_as_floor(structure: StructureArrays) -> np.ndarray:
@@ -306,18 +307,18 @@ def simulate(
     if status == cdm.STATUS_OK:
         text, valid = "complete", n_out
     elif status == cdm.STATUS_DIVERGED:
-        text = (
-            f"failed: diverged at t = {(done - 1) * dt:.4g} s (a displacement exceeded "
-            f"{DIVERGENCE_LIMIT:g} m or became NaN); Δt = {dt:.3g} s may be too large"
-        )
         valid = _leading_good_rows(outs[0], out_energy)
+        text = (
+            f"failed: diverged at t = {valid * stride * dt:.4g} s (a displacement exceeded "
+            f"{DIVERGENCE_LIMIT:g} m or became NaN or infinite); Δt = {dt:.3g} s may be too large"
+        )
     elif status == cdm.STATUS_ENERGY:
-        text = (
-            f"failed: unstable at t = {(done - 1) * dt:.4g} s (the energy balance error passed "
-            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play); Δt = {dt:.3g} s is too large for the "
-            'contact stiffness: use dt = "auto" or a smaller step'
-        )
         valid = _leading_good_rows(outs[0], out_energy)
+        text = (
+            f"failed: unstable at t = {max(valid - 1, 0) * stride * dt:.4g} s (the energy balance error passed "
+            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play); Δt = {dt:.3g} s is too large for the "
+            'stiffest vibration (structure or contact): use dt = "auto" or a smaller step'
+        )
     else:
         text = "failed: interrupted"
         valid = _leading_good_rows(outs[0], out_energy)
@@ -346,4 +347,15 @@ def simulate(
         exact_substeps=int(counters[hybrid.CNT_EXACT]),
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
+        failure_dof=_failure_dof(u[:n_dof], v_half[:n_dof]) if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
     )
+
+
+def _failure_dof(u: np.ndarray, v: np.ndarray) -> int:
+    """The first DOF whose displacement is not finite or past the limit, else the fastest."""
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(~np.isfinite(u) | (np.abs(u) > DIVERGENCE_LIMIT))
+    if bad.size:
+        return int(bad[0])
+    speed = np.where(np.isfinite(v), np.abs(v), np.inf)
+    return int(np.argmax(speed))

@@ -1,0 +1,86 @@
+"""Killing a real `pound run` at random moments never leaves a final-named file that is
+incomplete; SIGTERM (like Ctrl-C) leaves the partial results marked "failed: interrupted"."""
+
+from __future__ import annotations
+
+import random
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import pytest
+
+from conftest import INPUTS
+
+MODEL = INPUTS / "paper_pounding.toml"
+
+
+def _start(tmp_path, out):
+    # the CDM at every step makes the run long enough (~2 s of solver) to be hit mid-way
+    model = tmp_path / "slow.toml"
+    model.write_text(MODEL.read_text().replace('dt = "auto"', 'dt = "auto"\nintegrator = "cdm"'))
+    (tmp_path / "records").symlink_to(INPUTS / "records")
+    return subprocess.Popen([sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(out), "--no-progress"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
+
+
+def _check_final_file(out):
+    """A file with the final name must be whole: it opens, and says complete or failed."""
+    if not out.exists():
+        return None
+    with h5py.File(out, "r") as f:
+        status = str(f.attrs["status"])
+        n = f["time"].shape[0]
+        assert f["energy"].shape[0] == n and f["buildings/left/displacement"].shape[0] == n
+    return status
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
+def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
+    out = tmp_path / "out.h5"
+    process = _start(tmp_path, out)
+    time.sleep(random.Random(seed).uniform(0.3, 4.0))
+    process.send_signal(sig)
+    _, stderr = process.communicate(timeout=120)
+    status = _check_final_file(out)
+    code = process.returncode
+    if sig == signal.SIGKILL:
+        assert code in (0, -signal.SIGKILL)
+        assert status in (None, "complete") if code != 0 else status == "complete"
+    else:
+        # before the time loop the default handler ends the process; during it, the run stops
+        # and writes what it has; after it, the run completes
+        assert code in (0, 1, -signal.SIGTERM), stderr
+        if code == 0:
+            assert status == "complete"
+        elif code == 1:
+            assert status is None or status == "failed: interrupted", (status, stderr)
+        else:
+            assert status is None
+    leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records")]
+    if sig == signal.SIGTERM:
+        assert leftovers == [], "no temporary file is left behind"
+
+
+@pytest.mark.slow
+def test_sigterm_during_the_time_loop_writes_marked_partial_results(tmp_path):
+    """Once the time loop runs, SIGTERM stops it and the partial results are written."""
+    out = tmp_path / "out.h5"
+    process = _start(tmp_path, out)
+    deadline = time.time() + 60
+    # wait until the solver has started: the compiled kernel is loaded after the imports
+    time.sleep(2.5)
+    process.send_signal(signal.SIGTERM)
+    _, stderr = process.communicate(timeout=max(1, deadline - time.time()))
+    if process.returncode == 0:
+        pytest.skip("the run finished before the signal (a fast machine)")
+    assert process.returncode == 1, stderr
+    assert b"failed: interrupted" in stderr
+    assert _check_final_file(out) == "failed: interrupted"
+    with h5py.File(out) as f:
+        assert 0 < f["time"].shape[0] < 2001
+
