@@ -277,6 +277,41 @@ def bench(
         out.print(f"written: {out_dir / 'bench.md'}, {out_dir / 'bench.h5'}, {out_dir / 'bench.png'}", markup=False)
 
 
+@app.command(
+    help="Report on runs: tables of the model, the run, the buildings and the impacts.\n\n"
+    "PATHS are result files written by `pound run`. Prints the model, record, integrator, Δt, "
+    "run time, periods, impacts, peak interstorey deflections per storey (with the column) and "
+    "the energy balance; a failed run says so at the top. --json prints the same as one JSON "
+    "document (a list of them for several files)."
+)
+def report(
+    paths: Annotated[list[Path], typer.Argument(help="Result files (.h5).", show_default=False)],
+    json_: JsonOpt = False,
+    column: Annotated[
+        str | None, typer.Option("--column", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
+    ] = None,
+) -> None:
+    """Report on runs."""
+    from .report import open_runs, run_tables, summary
+    from .report.tables import rich_table, status_line
+
+    with reported():
+        runs = open_runs(paths)
+        docs = [summary(r, column=column) for r in runs]
+    for doc in docs:
+        if not doc["complete"]:
+            err.print(f"{doc['file']}: {doc['status']}; the results are partial", markup=False, soft_wrap=True)
+    if json_:
+        print(json.dumps(docs[0] if len(docs) == 1 else docs, indent=2, ensure_ascii=False))
+        return
+    for doc in docs:
+        warning = status_line(doc)
+        if warning:
+            out.print(f"[bold red]{warning}[/bold red]")
+        for spec in run_tables(doc):
+            out.print(rich_table(spec))
+
+
 # --- printing ---------------------------------------------------------------------------
 
 

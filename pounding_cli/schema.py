@@ -3,7 +3,8 @@
 - ``model.schema.json``: a model file (TOML or JSON: same structure);
 - ``record.schema.json``: a record definition file (``*.record.toml`` / ``.json``), the
   same table a model may hold inline as ``[excitation.record]``;
-- ``record-summary.schema.json``: the document ``pound record --json`` prints.
+- ``record-summary.schema.json``: the document ``pound record --json`` prints;
+- ``report.schema.json``: the document ``pound report out.h5 --json`` prints.
 """
 
 from __future__ import annotations
@@ -42,11 +43,19 @@ def record_summary_schema() -> dict:
     return _published(summary_schema(), "record-summary.schema.json")
 
 
+def report_schema() -> dict:
+    """JSON Schema of the document `pound report out.h5 --json` prints."""
+    from .report.document import summary_schema as run_report_schema
+
+    return _published(run_report_schema(), "report.schema.json")
+
+
 def schema_files() -> dict[str, str]:
     """File name → text of every schema pound publishes."""
     schemas = {
         "model.schema.json": model_schema(),
         "record.schema.json": record_schema(),
         "record-summary.schema.json": record_summary_schema(),
+        "report.schema.json": report_schema(),
     }
     return {name: json.dumps(s, indent=2, ensure_ascii=False) + "\n" for name, s in schemas.items()}
