@@ -4,7 +4,10 @@
 - ``record.schema.json``: a record definition file (``*.record.toml`` / ``.json``), the
   same table a model may hold inline as ``[excitation.record]``;
 - ``record-summary.schema.json``: the document ``pound record --json`` prints;
-- ``report.schema.json``: the document ``pound report out.h5 --json`` prints.
+- ``report.schema.json``: the document ``pound report out.h5 --json`` prints;
+- ``sweep.schema.json``: a sweep file (``*.sweep.toml`` / ``.json``, ``pound sweep``);
+- ``sweep-summary.schema.json``: one row of a sweep's summary table, which is also one line
+  of ``pound sweep --json``.
 """
 
 from __future__ import annotations
@@ -43,6 +46,20 @@ def record_summary_schema() -> dict:
     return _published(summary_schema(), "record-summary.schema.json")
 
 
+def sweep_schema() -> dict:
+    """JSON Schema of a sweep file (TOML or JSON: same structure)."""
+    from .model.sweep import SweepFile
+
+    return _published(SweepFile.model_json_schema(mode="validation"), "sweep.schema.json")
+
+
+def sweep_summary_schema() -> dict:
+    """JSON Schema of one row of a sweep's summary (one line of `pound sweep --json`)."""
+    from .sweep.columns import row_schema
+
+    return _published(row_schema(), "sweep-summary.schema.json")
+
+
 def report_schema() -> dict:
     """JSON Schema of the document `pound report out.h5 --json` prints."""
     from .report.document import summary_schema as run_report_schema
@@ -57,5 +74,7 @@ def schema_files() -> dict[str, str]:
         "record.schema.json": record_schema(),
         "record-summary.schema.json": record_summary_schema(),
         "report.schema.json": report_schema(),
+        "sweep.schema.json": sweep_schema(),
+        "sweep-summary.schema.json": sweep_summary_schema(),
     }
     return {name: json.dumps(s, indent=2, ensure_ascii=False) + "\n" for name, s in schemas.items()}

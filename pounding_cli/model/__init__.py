@@ -7,6 +7,7 @@ from .excitation import Excitation, Record, RecordComponent
 from .load import LoadedModel, load_model, read_document, validate_model
 from .material import Material
 from .root import PoundModel
+from .sweep import LoadedSweep, load_sweep, validate_sweep
 
 __all__ = [
     "Analysis",
@@ -17,6 +18,7 @@ __all__ = [
     "Excitation",
     "Floor",
     "LoadedModel",
+    "LoadedSweep",
     "Material",
     "Obstacle",
     "PoundModel",
@@ -24,6 +26,8 @@ __all__ = [
     "Record",
     "RecordComponent",
     "load_model",
+    "load_sweep",
     "read_document",
     "validate_model",
+    "validate_sweep",
 ]
