@@ -39,10 +39,21 @@ from .results import RunResult, collect, write_hdf5
 from .solver import simulate
 
 G = 9.80665
-MAX_OUTPUT_BYTES = 8 * 2**30
-"""Refuse runs whose stored histories would exceed this (8 GiB)."""
-MAX_STEPS = 10**9
-"""Refuse runs of more time steps than this (about half an hour of solver time)."""
+def _limit(name: str, default: float) -> float:
+    """A resource limit, overridable by the environment variable POUND_<NAME>."""
+    try:
+        return float(os.environ.get(f"POUND_{name}", default))
+    except ValueError:
+        return default
+
+
+MAX_OUTPUT_BYTES = _limit("MAX_OUTPUT_GB", 8) * 2**30
+"""Refuse runs whose stored histories would exceed this (8 GiB; POUND_MAX_OUTPUT_GB)."""
+MAX_STEPS = _limit("MAX_STEPS", 1e9)
+"""Refuse runs of more time steps than this (about half an hour of CDM; POUND_MAX_STEPS)."""
+MAX_STOREYS = _limit("MAX_STOREYS", 1000)
+"""Refuse buildings of more storeys than this (POUND_MAX_STOREYS): the exact propagator of a
+building of N storeys is a dense (6N)² matrix, 288 MB at 1000 storeys."""
 
 
 def _loaded(model: str | Path | LoadedModel) -> LoadedModel:
@@ -63,6 +74,15 @@ class Scene:
 def prepare(model: str | Path | LoadedModel) -> Scene:
     """Validate, assemble, read the record and choose the time grid (no integration)."""
     loaded = _loaded(model)
+    for b, building in enumerate(loaded.model.buildings):
+        storeys = sum(f.repeat for f in building.floors)
+        if storeys > MAX_STOREYS:
+            raise InputError(
+                f"{storeys} storeys: more than the limit of {MAX_STOREYS:.0f} (its state-transition matrix "
+                f"would take {(6 * storeys) ** 2 * 8 / 2**30:.2f} GiB; set POUND_MAX_STOREYS to allow more)",
+                file=loaded.source,
+                field=f"buildings[{b}].floors",
+            )
     system = assemble(loaded)
     contact = contact_arrays(loaded, system.buildings)
     ground = ground_motion(loaded)
@@ -72,8 +92,8 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     if grid.n_steps > MAX_STEPS:
         raise InputError(
             f"the analysis would take {grid.n_steps:.3g} steps of {grid.dt:.3g} s (ω_max = "
-            f"{system.omega_max:.3g} rad/s), more than the limit of {MAX_STEPS:.0e}; check the "
-            "units of column sections (m), storey heights (m), E (Pa) and masses (kg)",
+            f"{system.omega_max:.3g} rad/s), more than the limit of {MAX_STEPS:.0e} (POUND_MAX_STEPS); check "
+            "the units of column sections (m), storey heights (m), E (Pa) and masses (kg)",
             file=loaded.source,
             field="analysis.dt",
         )
@@ -81,7 +101,7 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     if size > MAX_OUTPUT_BYTES:
         raise InputError(
             f"the stored histories would take {size / 2**30:.1f} GiB ({grid.n_outputs} samples × "
-            f"{system.n_dof} DOFs × 3); the limit is {MAX_OUTPUT_BYTES / 2**30:.0f} GiB: "
+            f"{system.n_dof} DOFs × 3); the limit is {MAX_OUTPUT_BYTES / 2**30:.0f} GiB (POUND_MAX_OUTPUT_GB): "
             "raise the output interval or shorten the duration",
             file=loaded.source,
             field="analysis.output_interval",
