@@ -278,11 +278,13 @@ def bench(
 
 
 @app.command(
-    help="Report on runs: tables of the model, the run, the buildings and the impacts.\n\n"
+    help="Report on runs: tables, plots, a plan-view animation, an HTML file.\n\n"
     "PATHS are result files written by `pound run`. Prints the model, record, integrator, Δt, "
     "run time, periods, impacts, peak interstorey deflections per storey (with the column) and "
     "the energy balance; a failed run says so at the top. --json prints the same as one JSON "
-    "document (a list of them for several files)."
+    "document (a list of them for several files). --plots writes the ground motion, floor "
+    "displacements, deflection profiles (all files on one figure), impacts, energy balance and "
+    "plan view; --animate a plan-view GIF or MP4; --html all of it in one file."
 )
 def report(
     paths: Annotated[list[Path], typer.Argument(help="Result files (.h5).", show_default=False)],
@@ -290,6 +292,25 @@ def report(
     column: Annotated[
         str | None, typer.Option("--column", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
     ] = None,
+    plots: Annotated[Path | None, typer.Option("--plots", help="Write every plot into this folder.")] = None,
+    format: Annotated[str, typer.Option("--format", help="Plot format: png, svg or pdf (HTML: png or svg).")] = "png",
+    floor: Annotated[
+        list[str] | None,
+        typer.Option("--floor", help="Floor for the displacement plot, building:floor (left:4; repeatable; default each roof)."),
+    ] = None,
+    magnify: Annotated[
+        float | None, typer.Option("--magnify", help="Displacement factor of plan views (default: a round factor, stated).", min=0.0)
+    ] = None,
+    animate: Annotated[Path | None, typer.Option("--animate", help="Write a plan-view animation (.gif, or .mp4 with ffmpeg).")] = None,
+    level: Annotated[
+        int | None, typer.Option("--level", help="Animate one level (1 = lowest floor elevation; default all).", min=1)
+    ] = None,
+    start: Annotated[float | None, typer.Option("--start", help="Animation window start, s (default: 6 s around the peak impact).")] = None,
+    end: Annotated[float | None, typer.Option("--end", help="Animation window end, s.")] = None,
+    stride: Annotated[int | None, typer.Option("--stride", help="Stored samples per animation frame (default: fit --max-frames).", min=1)] = None,
+    max_frames: Annotated[int, typer.Option("--max-frames", help="Most animation frames.", min=1)] = 120,
+    fps: Annotated[int, typer.Option("--fps", help="Animation frames per second.", min=1)] = 12,
+    html: Annotated[Path | None, typer.Option("--html", help="Write one self-contained HTML report (tables and plots).")] = None,
 ) -> None:
     """Report on runs."""
     from .report import open_runs, run_tables, summary
@@ -298,9 +319,13 @@ def report(
     with reported():
         runs = open_runs(paths)
         docs = [summary(r, column=column) for r in runs]
+        written = _report_files(runs, column, plots, format, floor, magnify, animate, level, start, end, stride,
+                                max_frames, fps, html)  # fmt: skip
     for doc in docs:
         if not doc["complete"]:
             err.print(f"{doc['file']}: {doc['status']}; the results are partial", markup=False, soft_wrap=True)
+    for path in written:
+        err.print(f"wrote {path}", markup=False)
     if json_:
         print(json.dumps(docs[0] if len(docs) == 1 else docs, indent=2, ensure_ascii=False))
         return
@@ -310,6 +335,35 @@ def report(
             out.print(f"[bold red]{warning}[/bold red]")
         for spec in run_tables(doc):
             out.print(rich_table(spec))
+
+
+def _report_files(runs, column, plots, fmt, floors, magnify, animate, level, start, end, stride, max_frames, fps, html):
+    """Write the plots, animation and HTML a `pound report` asked for; the paths written."""
+    written: list[Path] = []
+    if plots is None and animate is None and html is None:
+        return written
+    from .report.histories import parse_floor
+
+    chosen = [parse_floor(f) for f in floors or []]
+    if plots is not None:
+        from .report.plots import write_plots
+
+        written += write_plots(runs, plots, fmt, column, chosen, magnify)
+    if animate is not None:
+        from .report.animate import animate_plan
+
+        frames = animate_plan(runs[0], animate, level, magnify, start, end, stride, max_frames, fps)
+        err.print(f"{animate}: {frames} frames of {runs[0].path}" + (" (the first file)" if len(runs) > 1 else ""),
+                  markup=False)  # fmt: skip
+        written.append(animate)
+    if html is not None:
+        from .report.html import write_html
+
+        embedded = fmt if fmt == "svg" else "png"
+        images = {p.stem: p for p in written if p.suffix == f".{embedded}"} if plots is not None else None
+        written.append(write_html(runs, html, column=column, floors=chosen, magnify=magnify, fmt=embedded,
+                                  animation=animate, images=images))  # fmt: skip
+    return written
 
 
 # --- printing ---------------------------------------------------------------------------
