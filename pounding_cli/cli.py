@@ -124,6 +124,79 @@ def run(
 
 
 @app.command(
+    help="Run many analyses of one base model in parallel: a parametric sweep.\n\n"
+    "SWEEP is a sweep file (.toml or .json: docs/sweep.md): a base model and the values its "
+    "fields take, as named cases and/or a grid or zip of parameters, in one study or several. "
+    "Every case is checked before any runs; a bad path or value exits 2 naming the case and "
+    "the field. Each case's results go to OUTPUT/cases/<hash>.h5 (as `pound run` writes them), "
+    "and OUTPUT/summary.csv and summary.h5 get one row per case. Rerunning skips the cases "
+    "already complete. Runs on local processes (--jobs, default all cores) or a Dask cluster "
+    "(--scheduler, --scheduler-file). Exits 1 if a case failed."
+)
+def sweep(
+    sweep_file: Annotated[Path, typer.Argument(metavar="SWEEP", help="Sweep file (.toml or .json).", show_default=False)],
+    output: Annotated[
+        Path | None,
+        typer.Option("-o", "--output", help="Output folder (default: the sweep file's name without .sweep.toml, in the current folder)."),
+    ] = None,
+    jobs: Annotated[
+        int | None, typer.Option("-j", "--jobs", help="Local worker processes, one case and one thread each (default: all cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Run on the Dask scheduler at this address, e.g. tcp://host:8786.")
+    ] = None,
+    scheduler_file: Annotated[
+        Path | None, typer.Option("--scheduler-file", help="Run on the Dask scheduler described in this file (dask scheduler --scheduler-file).")
+    ] = None,
+    study: Annotated[
+        list[str] | None, typer.Option("--study", help="Run only this study (repeatable); every case is still checked and listed.")
+    ] = None,
+    dry_run: Annotated[
+        bool, typer.Option("--dry-run", help="Check every case and list it (hash, status, values) without running or writing anything.")
+    ] = False,
+    json_: Annotated[
+        bool, typer.Option("--json", help="Print one JSON object per case on stdout as it finishes: its summary row.")
+    ] = False,
+    progress: Annotated[
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
+    ] = None,
+) -> None:
+    """Run a parametric sweep."""
+    from .sweep.progress import SweepProgress, print_cases, print_outcome
+
+    if scheduler and scheduler_file:
+        err.print("--scheduler and --scheduler-file: give one of them", markup=False)
+        raise typer.Exit(2)
+    show = sys.stderr.isatty() if progress is None else progress
+
+    def emit(row: dict[str, Any]) -> None:
+        try:
+            print(json.dumps(row, ensure_ascii=False), flush=True)
+        except BrokenPipeError:  # the reader left (| head): the sweep goes on, silently
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+
+    with reported():
+        from .sweep import run_sweep
+
+        with SweepProgress(err, show) as bar:
+            outcome = run_sweep(
+                sweep_file, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file,
+                studies=study, dry_run=dry_run, on_row=emit if json_ and not dry_run else None,
+                on_progress=bar.update, log=bar.log,
+            )  # fmt: skip
+    if dry_run:
+        if json_:
+            for i in outcome.selected:
+                emit(outcome.rows[i])
+        else:
+            print_cases(out, outcome)
+        return
+    print_outcome(err, outcome)
+    if not outcome.ok:
+        raise typer.Exit(1)
+
+
+@app.command(
     help="Write the JSON Schemas of the input files.\n\n"
     "They are generated from the pydantic models that validate the files."
 )

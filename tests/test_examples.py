@@ -10,9 +10,10 @@ import pounding_cli as pound
 
 from conftest import INPUTS, SHARED
 
-# *.record.toml / *.record.json are record definitions, not models (tests/records/ reads them)
+# *.record.toml / *.record.json are record definitions, not models (tests/records/ reads them);
+# *.sweep.toml are sweep files (tests/test_sweep_run.py runs them)
 EXAMPLES = [p for p in sorted(INPUTS.glob("*.toml")) + sorted(INPUTS.glob("*.json"))
-            if not p.name.endswith((".record.toml", ".record.json"))]
+            if not p.name.endswith((".record.toml", ".record.json", ".sweep.toml", ".sweep.json"))]
 
 
 @pytest.mark.slow

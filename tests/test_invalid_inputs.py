@@ -15,7 +15,12 @@ JSON has no comments: the expectations of the JSON files are in JSON_EXPECT belo
 file dropped into tests/invalid/ is picked up automatically. Bad record files referenced by
 the models live in tests/invalid/records/.
 
-The CLI is checked in-process (typer's CliRunner) for every file and both commands, and as
+Sweep files that must fail are tests/invalid/invalid_sweep_<what>.toml (or .json), with the
+same `# expect:` lines; their base model is tests/invalid/sweep_base/base.toml (valid). Each
+must make the sweep loader and planner (`plan_sweep`) raise `InputError`, and `pound sweep
+FILE -o OUT` exit 2 with the message on stderr before anything runs: OUT is not created.
+
+The CLI is checked in-process (typer's CliRunner) for every file and every command, and as
 a real subprocess (`python -m pounding_cli ...`, ~2 s each: the CLI imports numba and obspy)
 for a representative subset (SUBPROCESS_VALIDATE, SUBPROCESS_RUN).
 
@@ -55,6 +60,8 @@ JSON_EXPECT: dict[str, list[str]] = {
     "invalid_json_null_mass.json": [
         "buildings[0].floors[0]: give exactly one of 'mass' (kg) or 'mass_per_area' (kg/m²)"
     ],
+    "invalid_sweep_json_mode.json": ["mode: Input should be 'grid' or 'zip'; got 'zap'"],
+    "invalid_sweep_json_syntax.json": ["invalid JSON", "line 1, column 78"],
 }
 
 XFAIL: dict[str, str] = {}
@@ -70,6 +77,11 @@ SUBPROCESS_VALIDATE = [
     "invalid_record_garbage.toml",
     "invalid_rayleigh_modes_same_frequency.toml",
     "invalid_dt_above_stability_limit.toml",
+]
+# A sweep file rejected while it is read, and one rejected by the worker processes' check.
+SUBPROCESS_SWEEP = [
+    "invalid_sweep_value_wrong_type.toml",
+    "invalid_sweep_damping_same_frequency.toml",
 ]
 SUBPROCESS_RUN = [
     "invalid_json_syntax.json",
@@ -118,8 +130,17 @@ duration = 1.0             # s (kept short)
 
 
 def model_files() -> list[Path]:
-    """Every file directly in tests/invalid/ (the records/ folder is not a case)."""
-    return sorted(p for p in INVALID.iterdir() if p.is_file())
+    """Every model file directly in tests/invalid/ (the records/ and sweep_base/ folders are
+    not cases, and the invalid_sweep_ files are sweep files)."""
+    return sorted(p for p in INVALID.iterdir() if p.is_file() and not p.name.startswith(SWEEP_PREFIX))
+
+
+SWEEP_PREFIX = "invalid_sweep_"
+
+
+def sweep_files() -> list[Path]:
+    """Every sweep file directly in tests/invalid/."""
+    return sorted(p for p in INVALID.iterdir() if p.is_file() and p.name.startswith(SWEEP_PREFIX))
 
 
 def expectations(path: Path) -> list[str]:
@@ -145,6 +166,7 @@ def _case(path: Path):
 
 
 CASES = [_case(p) for p in model_files()]
+SWEEP_CASES = [_case(p) for p in sweep_files()]
 
 
 def _subset(names: list[str]):
@@ -174,15 +196,16 @@ def leftovers(folder: Path) -> list[str]:
 
 
 def test_case_files_are_well_formed() -> None:
-    files = model_files()
-    assert len(files) >= 25
+    assert len(model_files()) >= 25
+    assert len(sweep_files()) >= 15
+    files = model_files() + sweep_files()
     bad_names = [p.name for p in files if not FILE_NAME.match(p.name)]
     assert not bad_names, f"name case files invalid_<what>.toml or .json: {bad_names}"
     names = {p.name for p in files}
     for table, label in ((JSON_EXPECT, "JSON_EXPECT"), (XFAIL, "XFAIL")):
         stale = sorted(set(table) - names)
         assert not stale, f"{label} names files that do not exist: {stale}"
-    stale = sorted(set(SUBPROCESS_VALIDATE + SUBPROCESS_RUN) - names)
+    stale = sorted(set(SUBPROCESS_VALIDATE + SUBPROCESS_RUN + SUBPROCESS_SWEEP) - names)
     assert not stale, f"subprocess subsets name files that do not exist: {stale}"
     # Checked here as well as in each case, because a failing xfail case hides the error.
     for path in files:
@@ -239,6 +262,34 @@ def test_cli_run(path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) ->
     assert leftovers(tmp_path) == [], "run left files behind"
 
 
+# --- sweep files ------------------------------------------------------------------------------
+
+
+def test_sweep_base_model_is_valid() -> None:
+    """The base model of the invalid sweep files is valid: each fails by its one mistake."""
+    info = pounding_cli.describe(pounding_cli.load_model(INVALID / "sweep_base" / "base.toml"))
+    assert [b["name"] for b in info["buildings"]] == ["left"]
+
+
+@pytest.mark.parametrize("path", SWEEP_CASES)
+def test_sweep_api_raises_input_error(path: Path) -> None:
+    from pounding_cli.sweep import plan_sweep
+
+    expected = expectations(path)
+    with pytest.raises(InputError) as info:
+        plan_sweep(path)  # the workers' check runs in this process here
+    assert_reports(str(info.value), path, expected, "InputError")
+
+
+@pytest.mark.parametrize("path", SWEEP_CASES)
+def test_cli_sweep(path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    expected = expectations(path)
+    monkeypatch.chdir(tmp_path)
+    result = invoke(["sweep", str(path), "-o", str(tmp_path / "out"), "--jobs", "1", "--no-progress"])
+    assert_clean_exit(result.exit_code, result.stdout, result.stderr, path, expected)
+    assert leftovers(tmp_path) == [], "sweep wrote something before refusing the file"
+
+
 # --- the CLI as a real process (a representative subset) ---------------------------------
 
 
@@ -265,6 +316,14 @@ def test_process_run(path: Path, tmp_path: Path) -> None:
     proc = pound(["run", str(path), "-o", str(tmp_path / "out.h5")], cwd=tmp_path)
     assert_clean_exit(proc.returncode, proc.stdout, proc.stderr, path, expected)
     assert leftovers(tmp_path) == [], "run left files behind"
+
+
+@pytest.mark.parametrize("path", _subset(SUBPROCESS_SWEEP))
+def test_process_sweep(path: Path, tmp_path: Path) -> None:
+    expected = expectations(path)
+    proc = pound(["sweep", str(path), "-o", str(tmp_path / "out"), "--jobs", "1"], cwd=tmp_path)
+    assert_clean_exit(proc.returncode, proc.stdout, proc.stderr, path, expected)
+    assert leftovers(tmp_path) == [], "sweep wrote something before refusing the file"
 
 
 # --- usage errors ---------------------------------------------------------------------------

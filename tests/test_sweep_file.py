@@ -19,9 +19,10 @@ from pounding_cli.model.sweep import Index, Linspace, Range, Study, SummarySetti
 from pounding_cli.schema import sweep_schema, sweep_summary_schema
 from pounding_cli.sweep.columns import CASE_COLUMNS, RESULT_COLUMNS, TIME_COLUMNS, building_columns, storey_columns
 
-from conftest import ROOT
+from conftest import INPUTS, ROOT
 
 DOC = ROOT / "docs" / "sweep.md"
+SWEEP_FILES = sorted(INPUTS.glob("*.sweep.toml"))
 
 
 # --- values ----------------------------------------------------------------------------------
@@ -97,11 +98,31 @@ def test_path_syntax_errors(text, message):
         parse_path(text)
 
 
+# --- shipped sweep files -------------------------------------------------------------------
+
+
+def test_shipped_sweep_files_are_valid():
+    assert {p.name for p in SWEEP_FILES} >= {"pounding_angle_gap.sweep.toml", "paper_studies.sweep.toml"}
+    for path in SWEEP_FILES:
+        loaded = load_sweep(path)
+        assert loaded.base.is_file(), f"{path.name}: base {loaded.sweep.base} not found"
+
+
+def test_paper_studies_file_has_the_papers_three_studies():
+    s = load_sweep(INPUTS / "paper_studies.sweep.toml").sweep
+    assert list(s.studies) == ["6.1", "6.2", "6.3"]
+    assert len(s.studies["6.1"].cases) == 5 and len(s.studies["6.2"].cases) == 3
+    assert len(Range.model_validate(s.studies["6.3"].parameters["excitation.angle"].model_dump()).values()) == 73
+    assert s.summary.columns == {"left": ["C9"]}
+
+
 # --- schemas -------------------------------------------------------------------------------
 
 
-def test_sweep_schema_refuses_typos():
+def test_sweep_schema_accepts_the_shipped_files_and_refuses_typos():
     schema = sweep_schema()
+    for path in SWEEP_FILES:
+        jsonschema.validate(tomllib.loads(path.read_text(encoding="utf-8")), schema)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate({"base": "m.toml", "parmeters": {}}, schema)
 
@@ -151,6 +172,14 @@ def test_every_summary_column_is_documented():
         assert f"| `{column.name}` |" in text, f"summary column {column.name} is not in docs/sweep.md"
     for pattern in ("`peak_isd_x_m[B]`", "`peak_isd_theta_rad[B/C/s]`"):
         assert pattern in text
+
+
+def test_quoted_sweep_files_are_verbatim():
+    text = DOC.read_text(encoding="utf-8")
+    blocks = re.findall(r"<!-- from: (\S+) -->\n```toml\n(.*?)```", text, flags=re.S)
+    assert blocks, "docs/sweep.md quotes no sweep file"
+    for source, body in blocks:
+        assert body in (ROOT / source).read_text(encoding="utf-8"), f"docs/sweep.md: block from {source} changed"
 
 
 def test_toml_blocks_of_the_docs_are_valid_sweep_files():
