@@ -109,7 +109,16 @@ def assemble_building(
         _check_storey(storey_k[s], s, building, field, source)
 
     stiffness = global_stiffness(storey_k)
-    building_modes = modes(stiffness, mass, phi)
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            building_modes = modes(stiffness, mass, phi)
+    except np.linalg.LinAlgError:
+        raise InputError(
+            "its natural frequencies cannot be computed (stiffness and mass differ by too many orders "
+            "of magnitude); check the units of column sections (m), heights (m), E (Pa) and masses (kg)",
+            file=source,
+            field=f"{field}.floors",
+        ) from None
     (i, j), (zi, zj) = building.damping.modes, building.damping.ratios
     if max(i, j) > 3 * n:
         raise InputError(
@@ -119,7 +128,8 @@ def assemble_building(
         )
     w = building_modes.omega
     try:
-        rayleigh = rayleigh_coefficients(w[i - 1], w[j - 1], zi, zj)
+        with np.errstate(over="ignore", invalid="ignore"):
+            rayleigh = rayleigh_coefficients(w[i - 1], w[j - 1], zi, zj)
     except ValueError as exc:
         raise InputError(
             f"modes {i} and {j} have the same frequency ({exc}), so Rayleigh damping cannot be "
@@ -128,6 +138,13 @@ def assemble_building(
             file=source,
             field=f"{field}.damping.modes",
         ) from None
+    if not all(np.isfinite(rayleigh)) or not np.isfinite(w).all():
+        raise InputError(
+            f"its natural frequencies ({w[-1]:.3g} rad/s at the highest) are beyond what can be "
+            "computed; check the units of column sections (m), heights (m), E (Pa) and masses (kg)",
+            file=source,
+            field=f"{field}.floors",
+        )
     return BuildingArrays(
         name=building.name,
         rotation=phi,

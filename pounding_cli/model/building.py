@@ -130,16 +130,16 @@ class Floor(Strict):
     """Slab outline: a convex polygon [[x, y], ...] in building coordinates, m, either
     orientation."""
 
-    mass: Annotated[Positive, Field(le=1e12)] | None = None
-    """Lumped floor mass, kg. Give this or mass_per_area."""
+    mass: Annotated[Positive, Field(ge=1.0, le=1e12)] | None = None
+    """Lumped floor mass, kg, 1 to 1e12. Give this or mass_per_area."""
 
-    mass_per_area: Annotated[Positive, Field(le=1e9)] | None = None
-    """Floor mass per slab area, kg/m² (the paper uses 1000). Give this or mass."""
+    mass_per_area: Annotated[Positive, Field(ge=0.01, le=1e9)] | None = None
+    """Floor mass per slab area, kg/m², 0.01 to 1e9 (the paper uses 1000). Give this or mass."""
 
     eccentricity: tuple[Real, Real] = (0.0, 0.0)
     """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes."""
 
-    rotational_inertia: Annotated[Positive, Field(le=1e18)] | None = None
+    rotational_inertia: Annotated[Positive, Field(ge=1e-3, le=1e18)] | None = None
     """Mass moment of inertia J about the vertical axis through the mass centre, kg·m².
     Default: that of a uniform slab of the floor's mass, m·(I_x + I_y)/A about the slab
     centroid, whatever the eccentricity (the accidental-eccentricity convention)."""
