@@ -1,77 +1,51 @@
 """Run the parametric studies of the paper's section 6 and write docs/paper-example.md.
 
-    python docs/paper_studies.py [--jobs 2]
+    python docs/paper_studies.py [--jobs 2] [--out DIR]
 
+The studies are the sweep file inputs/paper_studies.sweep.toml (6.1 eccentricity cases 1-5,
+6.2 one or two components, 6.3 the angle of incidence in 5° steps), run by `pound sweep`'s
+machinery (pounding_cli.sweep.run_sweep) into DIR (default: a temporary folder; give one to
+keep the case files, and to resume). The page is written from the sweep's summary rows.
 Needs the Kobe 1995 JMA record (PEER NGA-West2 RSN1106), which pound does not ship: the
 model inputs/paper_kobe.toml looks for it in ../shared/records/ beside the repository.
-Every case is the same model with one or two settings changed, run through the Python API.
 Nothing is tuned: the page reports what the runs give.
 """
 
 from __future__ import annotations
 
 import argparse
-import copy
 import sys
-import time
-from concurrent.futures import ProcessPoolExecutor
+import tempfile
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+SWEEP = ROOT / "inputs" / "paper_studies.sweep.toml"
 BASE = ROOT / "inputs" / "paper_kobe.toml"
 PAGE = ROOT / "docs" / "paper-example.md"
 ANGLES = (0, 45, 90, 135, 180, 225, 270, 315)
+"""The angles of the page's 6.3 table (the sweep runs every 5°)."""
 
 
-def cases() -> dict[str, dict]:
-    """Named edits of the base model: (section, label) -> changes."""
-    out = {}
-
-    def case(key, label, components=("L", "T"), ecc_left=(0.0, 0.0), ecc_right=(0.0, 0.0), pounding=True, angle=0.0):
-        out[key] = dict(label=label, components=list(components), ecc_left=ecc_left, ecc_right=ecc_right,
-                        pounding=pounding, angle=angle)  # fmt: skip
-
-    case("6.1 case 1", "no eccentricity, pounding", components=("L",))
-    case("6.1 case 2", "left e_y = 0.4 m, pounding", components=("L",), ecc_left=(0.0, 0.4))
-    case("6.1 case 3", "e_y = +0.4 m left, −0.4 m right, pounding", components=("L",), ecc_left=(0.0, 0.4),
-         ecc_right=(0.0, -0.4))  # fmt: skip
-    case("6.1 case 4", "as case 1, no pounding (d = ∞)", components=("L",), pounding=False)
-    case("6.1 case 5", "as case 2, no pounding (d = ∞)", components=("L",), ecc_left=(0.0, 0.4), pounding=False)
-    case("6.2 X+Y", "both components: L along x, T along y", components=("L", "T"))
-    case("6.2 X only", "L along x only", components=("L",))
-    case("6.2 Y only", "T along y only", components=("T",))
-    for a in ANGLES:
-        case(f"6.3 θ = {a}°", f"both components at θ = {a}°", angle=float(a))
-    return out
-
-
-def run_case(key: str, spec: dict) -> dict:
-    from pounding_cli import run_model
-    from pounding_cli.model import read_document, validate_model
-
-    doc = copy.deepcopy(read_document(BASE))
-    doc["excitation"]["components"] = spec["components"]
-    doc["excitation"]["angle"] = spec["angle"]
-    doc["buildings"][0]["floors"][0]["eccentricity"] = list(spec["ecc_left"])
-    doc["buildings"][1]["floors"][0]["eccentricity"] = list(spec["ecc_right"])
-    doc["contact"]["enabled"] = spec["pounding"]
-    t0 = time.perf_counter()
-    result = run_model(validate_model(doc, BASE))
-    left = result.buildings["left"]
-    return {
+def result(row: dict) -> tuple[str, dict]:
+    """The page's key ("6.1 case 2", "6.3 θ = 45°") and values of one summary row."""
+    if row["study"] == "6.3":
+        key, label = f"6.3 θ = {row['excitation.angle']:g}°", f"both components at θ = {row['excitation.angle']:g}°"
+    else:
+        name, _, label = row["case"].partition(": ")
+        key = f"{row['study']} {name}"
+    c9 = [[row[f"peak_isd_{d}[left/C9/{s}]"] for d in ("x_m", "y_m", "theta_rad")] for s in range(1, 5)]
+    return key, {
         "key": key,
-        "label": spec["label"],
-        "c9": left.column("C9").tolist(),
-        "impacts": result.contact.impact_count,
-        "peak_force": result.contact.peak_force,
-        "balance": result.balance_error_ratio,
-        "dt": result.diagnostics["dt"],
-        "steps": result.diagnostics["steps"],
-        "solver_s": result.diagnostics["wall_time_s"],
-        "wall_s": time.perf_counter() - t0,
-        "status": result.status,
+        "label": label,
+        "c9": c9,
+        "impacts": row["impacts"],
+        "peak_force": row["peak_impact_force_N"],
+        "balance": row["energy_balance_error"],
+        "angle": row["excitation.angle"],
+        "status": row["status"],
     }
 
 
@@ -136,23 +110,26 @@ def findings(r: dict[str, dict]) -> list[str]:
     return out
 
 
-def page(results: dict[str, dict], total_s: float) -> str:
+def page(results: dict[str, dict], run: dict) -> str:
+    timing = (f"The sweep's {run['cases']} cases ({run['runs']} distinct runs) took {run['wall_s']:.0f} s on "
+              f"2 cores with `pound sweep --jobs {run['jobs']}`.")  # fmt: skip
+    if run["ran"] < run["runs"]:
+        timing += f" (This time {run['ran']} of them ran, the others were complete already.)"
     r61 = [results[k] for k in results if k.startswith("6.1")]
     r62 = [results[k] for k in results if k.startswith("6.2")]
-    r63 = [results[k] for k in results if k.startswith("6.3")]
     ang = "\n".join(
         f"| {k.split('= ')[1]} | {v['impacts']} | {v['peak_force'] / 1e6:.2f} | "
         f"{1e3 * max(s[0] for s in v['c9']):.2f} | {1e3 * max(s[1] for s in v['c9']):.2f} | "
         f"{1e3 * max(s[2] for s in v['c9']):.3f} |"
-        for k, v in results.items() if k.startswith("6.3")
+        for k, v in results.items() if k.startswith("6.3") and v["angle"] in ANGLES
     )
-    any_r = next(iter(results.values()))
     return f"""# The paper's example: the studies of section 6
 
 Polycarpou & Komodromos (2013), section 6, studied two adjacent buildings pounding under the
 1995 Kobe record of the JMA Kobe station. This page runs the same studies with pound and
-reports what they give. It is generated by `python docs/paper_studies.py` (which needs the
-record, PEER NGA-West2 RSN1106, in `../shared/records/`; see `inputs/paper_kobe.toml`).
+reports what they give. The studies are the sweep file `inputs/paper_studies.sweep.toml`; this
+page is generated from its summary by `python docs/paper_studies.py` (which needs the record,
+PEER NGA-West2 RSN1106, in `../shared/records/`; see `inputs/paper_kobe.toml`).
 Nothing was tuned to reproduce the paper's figures.
 
 ## The model
@@ -164,9 +141,10 @@ x; 1000 kg/m²; E = 21 GPa, ν = 0.2; 5 % Rayleigh damping at modes 1 and 3; a 5
 x; k_N and k_T from the materials (2.06 × 10⁷ kN/m², 4.59 × 10⁶ kN/m); μ_s = 0.8, μ_k = 0.6;
 no impact dashpot. Record: PEER's RSN1106, component 000 (PGA 0.834 g) as L along x and 090
 (0.630 g) as T along y; the paper quotes 0.821 g and 0.598 g, so its copy of the record was
-processed differently. Each case ran the whole 150 s record at the automatic step
-(Δt = {any_r['dt'] * 1e6:.1f} µs, {any_r['steps']:,} steps); the {len(results)} runs took
-{total_s:.0f} s on 2 cores. Every run's energy balance closed within
+processed differently. Each case ran the whole 150 s record with the default integrator:
+exact substeps of {run['substep'] * 1e3:.2f} ms while no contact is possible, the central
+difference method at the automatic Δt = {run['dt'] * 1e6:.1f} µs around impacts. {timing}
+Every run's energy balance closed within
 {max(v['balance'] for v in results.values()) * 100:.2g} % of its input energy.
 
 Column C9 is the left building's corner at (8, 8) m, on the face towards the right building.
@@ -179,6 +157,8 @@ Column C9 is the left building's corner at (8, 8) m, on the face towards the rig
 
 {table(r62)}
 ## 6.3 Angle of incidence (both components; largest over the storeys)
+
+Every 45° of the sweep's 73 angles (0° to 360° in 5° steps; all are in its summary).
 
 | θ (°) | impacts | peak force (MN) | C9 Δx (mm) | C9 Δy (mm) | C9 Δθ (mrad) |
 | ---: | ---: | ---: | ---: | ---: | ---: |
@@ -198,19 +178,24 @@ duration. The impact model is the paper's, with eq. (8) corrected (docs/theory.m
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--out", type=Path, help="sweep folder to keep (default: a temporary one)")
     args = parser.parse_args()
     if not BASE.exists():
         sys.exit(f"{BASE} is missing")
-    specs = cases()
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.jobs) as pool:
-        done = list(pool.map(run_case, specs, specs.values()))
-    results = {d["key"]: d for d in done}
-    bad = [k for k, v in results.items() if v["status"] != "complete"]
-    if bad:
-        sys.exit(f"runs failed: {bad}")
-    PAGE.write_text(page(results, time.perf_counter() - t0), encoding="utf-8")
-    print(f"wrote {PAGE} ({time.perf_counter() - t0:.0f} s)")
+    from pounding_cli.sweep import run_sweep
+
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = args.out or Path(tmp) / "paper_studies"
+        outcome = run_sweep(SWEEP, folder, jobs=args.jobs, log=lambda text: print(text, file=sys.stderr))
+        if not outcome.ok:
+            sys.exit(f"runs failed: {[r['case'] for r in outcome.failed]}")
+        results = dict(result(row) for row in outcome.rows)
+        with h5py.File(folder / outcome.rows[0]["file"], "r") as f:
+            dt, substep = float(f["diagnostics"].attrs["dt"]), float(f["diagnostics"].attrs["substep"])
+    run = {"dt": dt, "substep": substep, "cases": len(outcome.rows), "runs": len({r["hash"] for r in outcome.rows}),
+           "ran": outcome.ran, "wall_s": outcome.wall_time_s, "jobs": args.jobs}  # fmt: skip
+    PAGE.write_text(page(results, run), encoding="utf-8")
+    print(f"wrote {PAGE} ({outcome.wall_time_s:.0f} s, {outcome.ran} runs)")
 
 
 if __name__ == "__main__":

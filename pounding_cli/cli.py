@@ -351,30 +351,33 @@ def bench(
 
 
 @app.command(
-    help="Report on runs: tables, plots, a plan-view animation, an HTML file.\n\n"
-    "PATHS are result files written by `pound run`. Prints the model, record, integrator, Δt, "
-    "run time, periods, impacts, peak interstorey deflections per storey (with the column) and "
-    "the energy balance; a failed run says so at the top. --json prints the same as one JSON "
-    "document (a list of them for several files). --plots writes the ground motion, floor "
-    "displacements, deflection profiles (all files on one figure), impacts, energy balance and "
-    "plan view; --animate a plan-view GIF or MP4; --html all of it in one file."
+    help="Report on runs or a sweep: tables, plots, a plan-view animation, an HTML file.\n\n"
+    "PATHS are result files written by `pound run`, or one sweep folder written by `pound sweep`. "
+    "For runs: the model, record, integrator, Δt, run time, periods, impacts, peak interstorey "
+    "deflections per storey (with the column) and the energy balance; --plots writes the ground "
+    "motion, floor displacements, deflection profiles (all files on one figure), impacts, energy "
+    "balance and plan view; --animate a plan-view GIF or MP4. For a sweep: its summary table; "
+    "--plots draws summary columns against a swept parameter (also polar for an angle) and "
+    "grouped bars of cases. A failed run or case says so at the top. --json prints one JSON "
+    "document (a list of them for several files); --html writes everything into one file."
 )
 def report(
-    paths: Annotated[list[Path], typer.Argument(help="Result files (.h5).", show_default=False)],
+    paths: Annotated[list[Path], typer.Argument(help="Result files (.h5), or one sweep folder.", show_default=False)],
     json_: JsonOpt = False,
     column: Annotated[
         str | None, typer.Option("--column", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
     ] = None,
     plots: Annotated[Path | None, typer.Option("--plots", help="Write every plot into this folder.")] = None,
     format: Annotated[str, typer.Option("--format", help="Plot format: png, svg or pdf (HTML: png or svg).")] = "png",
+    html: Annotated[Path | None, typer.Option("--html", help="Write one self-contained HTML report (tables and plots).")] = None,
     floor: Annotated[
         list[str] | None,
-        typer.Option("--floor", help="Floor for the displacement plot, building:floor (left:4; repeatable; default each roof)."),
+        typer.Option("--floor", help="Runs: floor for the displacement plot, building:floor (left:4; repeatable; default each roof)."),
     ] = None,
     magnify: Annotated[
-        float | None, typer.Option("--magnify", help="Displacement factor of plan views (default: a round factor, stated).", min=0.0)
+        float | None, typer.Option("--magnify", help="Runs: displacement factor of plan views (default: a round factor, stated).", min=0.0)
     ] = None,
-    animate: Annotated[Path | None, typer.Option("--animate", help="Write a plan-view animation (.gif, or .mp4 with ffmpeg).")] = None,
+    animate: Annotated[Path | None, typer.Option("--animate", help="Runs: write a plan-view animation (.gif, or .mp4 with ffmpeg).")] = None,
     level: Annotated[
         int | None, typer.Option("--level", help="Animate one level (1 = lowest floor elevation; default all).", min=1)
     ] = None,
@@ -383,60 +386,83 @@ def report(
     stride: Annotated[int | None, typer.Option("--stride", help="Stored samples per animation frame (default: fit --max-frames).", min=1)] = None,
     max_frames: Annotated[int, typer.Option("--max-frames", help="Most animation frames.", min=1)] = 120,
     fps: Annotated[int, typer.Option("--fps", help="Animation frames per second.", min=1)] = 12,
-    html: Annotated[Path | None, typer.Option("--html", help="Write one self-contained HTML report (tables and plots).")] = None,
+    x: Annotated[str | None, typer.Option("--x", help="Sweep: the swept parameter on the x axis (default: the first numeric one).")] = None,
+    y: Annotated[
+        list[str] | None, typer.Option("--y", help="Sweep: summary columns to plot against --x (patterns: 'peak_isd_x_m[left/*/1]'; repeatable).")
+    ] = None,
+    case: Annotated[
+        list[str] | None, typer.Option("--case", help="Sweep: cases for the bar chart, 'study/case' patterns (repeatable).")
+    ] = None,
+    study: Annotated[list[str] | None, typer.Option("--study", help="Sweep: report only this study (repeatable).")] = None,
 ) -> None:
-    """Report on runs."""
-    from .report import open_runs, run_tables, summary
-    from .report.tables import rich_table, status_line
+    """Report on runs or a sweep."""
+    from .report.outputs import Animation, check_options
 
+    given = {"--floor": bool(floor), "--magnify": magnify is not None, "--animate": animate is not None,
+             "--level": level is not None, "--start": start is not None, "--end": end is not None,
+             "--stride": stride is not None, "--max-frames": max_frames != 120, "--fps": fps != 12,
+             "--x": x is not None, "--y": bool(y), "--case": bool(case), "--study": bool(study)}  # fmt: skip
     with reported():
-        runs = open_runs(paths)
-        docs = [summary(r, column=column) for r in runs]
-        written = _report_files(runs, column, plots, format, floor, magnify, animate, level, start, end, stride,
-                                max_frames, fps, html)  # fmt: skip
-    for doc in docs:
-        if not doc["complete"]:
-            err.print(f"{doc['file']}: {doc['status']}; the results are partial", markup=False, soft_wrap=True)
-    for path in written:
+        sweep_folder = next((p for p in paths if p.is_dir()), None)
+        check_options(sweep_folder is not None, given)
+        if sweep_folder is not None:
+            if len(paths) > 1:
+                from .errors import InputError
+
+                raise InputError("give one sweep folder, or result files: not both, and one folder at a time",
+                                 field="PATHS")  # fmt: skip
+            docs, written, blocks = _sweep_report(sweep_folder, column, plots, format, html, x, y, case, study)
+        else:
+            from .report.histories import parse_floor
+
+            animation = Animation(animate, level, start, end, stride, max_frames, fps) if animate else None
+            docs, written, blocks = _run_report(paths, column, plots, format, html, [parse_floor(f) for f in floor or []],
+                                                magnify, animation)  # fmt: skip
+    for source, warning, _ in blocks:
+        if warning:
+            err.print(f"{source}: {warning}", markup=False, soft_wrap=True)
+    if written.frames is not None:
+        err.print(f"{animate}: {written.frames} frames of {paths[0]}" + (" (the first file)" if len(paths) > 1 else ""),
+                  markup=False)  # fmt: skip
+    for path in written.files:
         err.print(f"wrote {path}", markup=False)
     if json_:
         print(json.dumps(docs[0] if len(docs) == 1 else docs, indent=2, ensure_ascii=False))
         return
-    for doc in docs:
-        warning = status_line(doc)
+    from .report.tables import rich_table
+
+    for _, warning, tables in blocks:
         if warning:
             out.print(f"[bold red]{warning}[/bold red]")
-        for spec in run_tables(doc):
+        for spec in tables:
             out.print(rich_table(spec))
 
 
-def _report_files(runs, column, plots, fmt, floors, magnify, animate, level, start, end, stride, max_frames, fps, html):
-    """Write the plots, animation and HTML a `pound report` asked for; the paths written."""
-    written: list[Path] = []
-    if plots is None and animate is None and html is None:
-        return written
-    from .report.histories import parse_floor
+def _run_report(paths, column, plots, fmt, html, floors, magnify, animation):
+    """JSON documents, files written and (file, warning, tables) per run."""
+    from .report import open_runs, run_tables, summary
+    from .report.outputs import run_outputs
+    from .report.tables import status_line
 
-    chosen = [parse_floor(f) for f in floors or []]
-    if plots is not None:
-        from .report.plots import write_plots
+    runs = open_runs(paths)
+    docs = [summary(r, column=column) for r in runs]
+    written = run_outputs(runs, plots, fmt, column, floors, magnify, animation, html)
+    return docs, written, [(d["file"], status_line(d), run_tables(d)) for d in docs]
 
-        written += write_plots(runs, plots, fmt, column, chosen, magnify)
-    if animate is not None:
-        from .report.animate import animate_plan
 
-        frames = animate_plan(runs[0], animate, level, magnify, start, end, stride, max_frames, fps)
-        err.print(f"{animate}: {frames} frames of {runs[0].path}" + (" (the first file)" if len(runs) > 1 else ""),
-                  markup=False)  # fmt: skip
-        written.append(animate)
-    if html is not None:
-        from .report.html import write_html
+def _sweep_report(folder, column, plots, fmt, html, x, ys, cases, studies):
+    """The JSON document, files written and (folder, warning, tables) of a sweep folder."""
+    from .report.outputs import sweep_outputs
+    from .report.sweep_data import column_names, open_sweep, select
+    from .report.sweep_document import status_line, sweep_summary, sweep_tables
 
-        embedded = fmt if fmt == "svg" else "png"
-        images = {p.stem: p for p in written if p.suffix == f".{embedded}"} if plots is not None else None
-        written.append(write_html(runs, html, column=column, floors=chosen, magnify=magnify, fmt=embedded,
-                                  animation=animate, images=images))  # fmt: skip
-    return written
+    whole = open_sweep(folder)
+    sweep = select(whole, studies)
+    if column:
+        column_names(sweep, column)  # refuse a column the summary lacks before drawing anything
+    doc = sweep_summary(whole, studies)
+    written = sweep_outputs(sweep, plots, fmt, column, x, ys, cases, html)
+    return [doc], written, [(doc["folder"], status_line(doc), sweep_tables(doc, column))]
 
 
 # --- printing ---------------------------------------------------------------------------

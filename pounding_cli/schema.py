@@ -5,6 +5,8 @@
   same table a model may hold inline as ``[excitation.record]``;
 - ``record-summary.schema.json``: the document ``pound record --json`` prints;
 - ``report.schema.json``: the document ``pound report out.h5 --json`` prints;
+- ``report-sweep.schema.json``: the document ``pound report SWEEP_DIR/ --json`` prints (its
+  rows refer to ``sweep-summary.schema.json``);
 - ``sweep.schema.json``: a sweep file (``*.sweep.toml`` / ``.json``, ``pound sweep``);
 - ``sweep-summary.schema.json``: one row of a sweep's summary table, which is also one line
   of ``pound sweep --json``.
@@ -67,6 +69,13 @@ def report_schema() -> dict:
     return _published(run_report_schema(), "report.schema.json")
 
 
+def report_sweep_schema() -> dict:
+    """JSON Schema of the document `pound report SWEEP_DIR/ --json` prints."""
+    from .report.sweep_document import sweep_schema
+
+    return _published(sweep_schema(), "report-sweep.schema.json")
+
+
 def schema_files() -> dict[str, str]:
     """File name → text of every schema pound publishes."""
     schemas = {
@@ -74,6 +83,7 @@ def schema_files() -> dict[str, str]:
         "record.schema.json": record_schema(),
         "record-summary.schema.json": record_summary_schema(),
         "report.schema.json": report_schema(),
+        "report-sweep.schema.json": report_sweep_schema(),
         "sweep.schema.json": sweep_schema(),
         "sweep-summary.schema.json": sweep_summary_schema(),
     }

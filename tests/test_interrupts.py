@@ -53,14 +53,16 @@ def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
         assert status in (None, "complete") if code != 0 else status == "complete"
     else:
         # before the time loop the default handler ends the process; during it, the run stops
-        # and writes what it has; after it, the run completes
+        # and writes what it has; after it, the run completes — and a signal that arrives once
+        # the complete file has its final name, as the interpreter shuts down, ends the process
+        # with the default handler but leaves that file whole
         assert code in (0, 1, -signal.SIGTERM), stderr
         if code == 0:
             assert status == "complete"
         elif code == 1:
             assert status is None or status == "failed: interrupted", (status, stderr)
         else:
-            assert status is None
+            assert status in (None, "complete")
     leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records")]
     if sig == signal.SIGTERM:
         assert leftovers == [], "no temporary file is left behind"

@@ -169,7 +169,7 @@ def test_what_is_not_a_result_file(tmp_path):
     text = tmp_path / "notes.h5"
     text.write_text("not hdf5")
     for path, words in ((tmp_path / "none.h5", "no such file"), (text, "cannot read it as HDF5"),
-                        (tmp_path, "is a folder")):  # fmt: skip
+                        (tmp_path, "not a sweep output folder")):  # fmt: skip
         r = runner.invoke(app, ["report", str(path)])
         assert r.exit_code == 2, path
         assert words in r.stderr
@@ -178,3 +178,14 @@ def test_what_is_not_a_result_file(tmp_path):
         f["x"] = 1
     r = runner.invoke(app, ["report", str(other)])
     assert r.exit_code == 2 and "not a pound result file" in r.stderr
+
+
+def test_json_does_not_load_matplotlib(pounding_h5):
+    """--json is for scripts: it answers without importing the plotting stack."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from typer.testing import CliRunner; from pounding_cli.cli import app; "
+            f"r = CliRunner().invoke(app, ['report', {str(pounding_h5)!r}, '--json']); "
+            "assert r.exit_code == 0, r.output; assert 'matplotlib' not in sys.modules")  # fmt: skip
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)

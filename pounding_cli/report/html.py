@@ -1,5 +1,5 @@
-"""The self-contained HTML report (``pound report ... --html report.html``): the tables and
-every plot of the report in one file, images embedded as base64 (PNG, or SVG), no external
+"""The self-contained HTML report (``pound report ... --html report.html``, of runs or of a
+sweep folder): the tables and every plot of the report in one file, images embedded as base64 (PNG, or SVG), no external
 style sheet, script or font, so it can be mailed or archived as it is.
 """
 
@@ -10,13 +10,14 @@ import html
 import io
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Callable, Sequence
 
 from .. import __version__
 from ..errors import InputError
 from .document import summary
 from .histories import Floor
 from .load import Run
+from .sweep_data import Sweep
 from .plots import all_figures
 from .tables import TableSpec, run_tables, status_line
 
@@ -88,9 +89,7 @@ def report_html(
     if fmt not in ("png", "svg"):
         raise InputError(f"the HTML report embeds png or svg images, not {fmt}", field="--format")
     title = runs[0].title if len(runs) == 1 else f"{len(runs)} runs"
-    parts = [f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pound report: "
-             f"{html.escape(title)}</title><style>{STYLE}</style></head><body>",
-             f"<h1>pound report: {html.escape(title)}</h1>"]  # fmt: skip
+    parts = [_head(title)]
     docs = [summary(run, column=column) for run in runs]
     for doc in docs:  # a failed run says so at the very top
         warning = status_line(doc)
@@ -110,21 +109,77 @@ def report_html(
         parts.append(image_html(done.read_bytes(), caption, fmt) if done else figure_html(draw(), caption, fmt))
     if animation is not None and animation.suffix.lower() == ".gif":
         parts.append(image_html(animation.read_bytes(), "Plan-view animation.", "gif"))
-    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    parts.append(f"<p><small>Written by pound {__version__} on {stamp} from "
-                 f"{html.escape(', '.join(str(r.path) for r in runs))}.</small></p></body></html>")  # fmt: skip
+    parts.append(_foot(", ".join(str(r.path) for r in runs)))
     return "\n".join(parts) + "\n"
 
 
+def sweep_html(
+    sweep: Sweep, column: str | None = None, fmt: str = "png", images: dict[str, Path] | None = None,
+    studies: Sequence[str] | None = None, **plot_options,
+) -> str:  # fmt: skip
+    """A sweep's report as one HTML document: its tables and every sweep plot."""
+    from .sweep_data import select
+    from .sweep_document import status_line as sweep_status, sweep_summary, sweep_tables
+    from .sweep_plots import sweep_figures
+
+    if fmt not in ("png", "svg"):
+        raise InputError(f"the HTML report embeds png or svg images, not {fmt}", field="--format")
+    sweep = select(sweep, studies)
+    doc = sweep_summary(sweep)
+    parts = [_head(f"sweep {sweep.title}")]
+    warning = sweep_status(doc)
+    if warning:
+        parts.append(f'<p class="failed">{html.escape(warning)}</p>')
+    parts += [table_html(spec) for spec in sweep_tables(doc, column)]
+    parts.append("<h2>Plots</h2>")
+    for stem, draw in sweep_figures(sweep, column=column, **plot_options).items():
+        done = (images or {}).get(stem)
+        caption = sweep_caption(stem)
+        parts.append(image_html(done.read_bytes(), caption, fmt) if done else figure_html(draw(), caption, fmt))
+    parts.append(_foot(str(sweep.folder)))
+    return "\n".join(parts) + "\n"
+
+
+def sweep_caption(stem: str) -> str:
+    """The caption of a sweep figure, from its file stem (see :mod:`.sweep_plots`)."""
+    if stem.startswith("sweep-cases"):
+        return "Peak interstorey deflections of the cases, side by side (the paper's figures 6 and 7)" + (
+            f": study {stem.removeprefix('sweep-cases-')}." if stem != "sweep-cases" else ".")
+    kind = {"polar": "around a circle, against the angle", "impacts": "impacts and peak impact force",
+            "columns": "the chosen summary columns"}.get(stem.rsplit("-", 1)[-1])  # fmt: skip
+    return f"{stem}: " + (kind or "peak interstorey deflections against the swept parameter (the paper's figure 8)") + "."
+
+
+def _head(title: str) -> str:
+    return (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>pound report: "
+            f"{html.escape(title)}</title><style>{STYLE}</style></head><body>\n"
+            f"<h1>pound report: {html.escape(title)}</h1>")  # fmt: skip
+
+
+def _foot(sources: str) -> str:
+    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    return f"<p><small>Written by pound {__version__} on {stamp} from {html.escape(sources)}.</small></p></body></html>"
+
+
 def write_html(runs: Sequence[Run], path: str | Path, **options) -> Path:
-    """Write :func:`report_html` to `path` (its folder must exist); returns the path."""
+    """Write :func:`report_html` of `runs` to `path` (its folder must exist); returns the path."""
+    return write_text(path, lambda: report_html(runs, **options))
+
+
+def write_sweep_html(sweep: Sweep, path: str | Path, **options) -> Path:
+    """Write :func:`sweep_html` to `path` (its folder must exist); returns the path."""
+    return write_text(path, lambda: sweep_html(sweep, **options))
+
+
+def write_text(path: str | Path, text: Callable[[], str]) -> Path:
+    """Check `path`, then write `text()` to it atomically."""
     path = Path(path)
     if not path.parent.is_dir():
         raise InputError(f"the folder {str(path.parent)!r} does not exist; create it first", file=path)
     if path.is_dir():
         raise InputError("is a folder; give a file name for the report, e.g. report.html", file=path)
-    text = report_html(runs, **options)
+    body = text()
     tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text, encoding="utf-8")
+    tmp.write_text(body, encoding="utf-8")
     tmp.replace(path)
     return path

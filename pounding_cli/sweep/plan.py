@@ -105,9 +105,9 @@ def plan_sweep(
     """Expand and check every case (module docstring). `run_tasks` runs the second pass's
     tasks (an executor's ``run``; in this process if None); `on_progress(done, total)`."""
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
-    documents = _documents(loaded)
-    paths = list(dict.fromkeys(p for doc, _ in documents for p in doc.spec.parameters))
-    cases = [_case(doc, model, paths) for doc, model in documents]
+    specs = expand(loaded.sweep)
+    paths = list(dict.fromkeys(p for spec in specs for p in spec.parameters))
+    documents, cases = _documents(loaded, specs, paths)
     _check(loaded, documents, cases, run_tasks, on_progress)
     buildings: dict[str, int] = {}
     for case in cases:
@@ -116,24 +116,29 @@ def plan_sweep(
     return Plan(loaded, cases, paths, buildings)
 
 
-def _documents(loaded: LoadedSweep) -> list[tuple[CaseDocument, LoadedModel]]:
-    """Pass 1: every case's document, validated as a model file."""
+def _documents(loaded: LoadedSweep, specs: list[CaseSpec], paths: list[str]) -> tuple[list[CaseDocument], list[PlannedCase]]:
+    """Pass 1: every case's document, validated as a model file (the validated model is
+    kept only as long as it takes to read the case's values from it)."""
     try:
         base = read_document(loaded.base)
     except InputError as exc:
         raise InputError(str(exc), file=loaded.source, field="base") from None
-    out, problems = [], []
-    for spec in expand(loaded.sweep):
+    documents, cases, problems = [], [], []
+    for spec in specs:
         try:
             doc = case_document(base, spec, loaded.source)
-            out.append((doc, validate_model(doc.document, loaded.base)))
+            model = validate_model(doc.document, loaded.base)
         except CaseProblem as exc:
             problems.append((exc.key, exc.text))
+            continue
         except InputError as exc:
             problems += describe_problem(doc, str(exc), loaded.base, loaded.source)
+            continue
+        documents.append(doc)
+        cases.append(_case(doc, model, paths))
     if problems:
         raise InputError(gather(problems))
-    return out
+    return documents, cases
 
 
 def _case(doc: CaseDocument, model: LoadedModel, paths: list[str]) -> PlannedCase:
@@ -154,7 +159,7 @@ def _resolved(dump: dict[str, Any], path: str, assigned: Any) -> Any:
 
 def _check(
     loaded: LoadedSweep,
-    documents: list[tuple[CaseDocument, LoadedModel]],
+    documents: list[CaseDocument],
     cases: list[PlannedCase],
     run_tasks: Callable[[list[Task]], Any] | None,
     on_progress: Callable[[int, int], None] | None,
@@ -169,7 +174,7 @@ def _check(
     outcomes = run_tasks(tasks) if run_tasks is not None else (_here(t) for t in tasks)
     problems = []
     for done, (key, ok, value) in enumerate(outcomes, start=1):
-        first = documents[distinct[key][0]][0]
+        first = documents[distinct[key][0]]
         if not ok:
             value = {"problem": f"{loaded.base}: internal error while checking the case: {value}"}
         if "problem" in value:

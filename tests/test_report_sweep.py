@@ -1,0 +1,190 @@
+"""`pound report SWEEP_DIR/`: the summary table, its JSON document and schema, plots of summary
+columns against a swept parameter (also polar), grouped bars of named cases, failed cases."""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import jsonschema
+import numpy as np
+import pytest
+from referencing import Registry, Resource
+from typer.testing import CliRunner
+
+from pounding_cli.cli import app
+from pounding_cli.report.sweep_bars import cases_figure
+from pounding_cli.report.sweep_data import match_cases, open_sweep
+from pounding_cli.report.sweep_document import sweep_summary
+from pounding_cli.report.sweep_lines import parameter_figure
+from pounding_cli.sweep import read_summary, run_sweep
+
+from conftest import INPUTS, ROOT
+
+runner = CliRunner()
+WIDE = {"COLUMNS": "250"}
+SWEEP = """
+title = "Report test: angle × gap, and three named cases"
+set = { "analysis.duration" = 16.0 }
+
+[summary]
+columns = { left = ["C9"] }
+
+[studies.angle]
+description = "angle of incidence × gap"
+parameters = { "excitation.angle" = [0, 45, 90, 135], "buildings.right.origin[0]" = [8.02, 8.05] }
+
+[studies.cases]
+description = "named cases"
+cases."pounding" = {}
+cases."no pounding" = { "contact.enabled" = false }
+cases."e_y = 0.4 m" = { "buildings.left.floors[*].eccentricity" = [0.0, 0.4] }
+"""
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("sweep")
+    path = tmp / "report.sweep.toml"
+    path.write_text(f'base = "{(INPUTS / "paper_pounding.toml").as_posix()}"\n' + SWEEP, encoding="utf-8")
+    outcome = run_sweep(path, tmp / "out", jobs=2)
+    assert outcome.ok
+    return tmp / "out"
+
+
+def _json(*args):
+    r = runner.invoke(app, ["report", *map(str, args), "--json"])
+    assert r.exit_code == 0, r.output
+    return json.loads(r.stdout)
+
+
+def test_json_validates_and_is_the_summary(folder):
+    doc = _json(folder)
+    schemas = {name: json.loads((ROOT / "schemas" / name).read_text(encoding="utf-8"))
+               for name in ("report-sweep.schema.json", "sweep-summary.schema.json")}  # fmt: skip
+    registry = Registry().with_resources((s["$id"], Resource.from_contents(s)) for s in schemas.values())
+    jsonschema.Draft202012Validator(schemas["report-sweep.schema.json"], registry=registry).validate(doc)
+    assert doc["rows"] == read_summary(folder)  # the rows of `pound sweep --json`
+    assert doc["counts"] == {"cases": 11, "complete": 11, "failed": 0, "pending": 0} and doc["complete"]
+    with h5py.File(folder / "summary.h5") as f:
+        table = f["cases"][()]
+        assert [c["name"] for c in doc["columns"]] == list(table.dtype.names)
+        for row, record in zip(doc["rows"], table):
+            assert row["peak_isd_x_m[left/C9/4]"] == record["peak_isd_x_m[left/C9/4]"]
+            assert row["impacts"] == record["impacts"] and row["case"] == record["case"].decode()
+        assert doc["title"] == f.attrs["title"]
+
+
+def test_study_selects_rows(folder):
+    doc = _json(folder, "--study", "cases")
+    assert [r["case"] for r in doc["rows"]] == ["pounding", "no pounding", "e_y = 0.4 m"]
+    assert doc["selected_studies"] == ["cases"] and doc["counts"]["cases"] == 3
+    r = runner.invoke(app, ["report", str(folder), "--study", "nope"])
+    assert r.exit_code == 2 and "no study 'nope'; studies: 'angle', 'cases'" in r.stderr
+
+
+def test_tables(folder):
+    r = runner.invoke(app, ["report", str(folder), "--column", "left:C9"], env=WIDE)
+    assert r.exit_code == 0, r.output
+    text = r.stdout
+    assert text.lstrip().startswith("Sweep")
+    for words in ("11: 11 complete, 0 failed, 0 pending", "study 'angle'", "excitation.angle",
+                  "left C9 Δx (mm)", "no pounding", "e_y = 0.4 m"):  # fmt: skip
+        assert words in text, words
+    row = read_summary(folder)[0]
+    c9 = max(row[f"peak_isd_x_m[left/C9/{s}]"] for s in range(1, 5))
+    assert f"{1e3 * c9:.4g}" in text
+
+
+def test_parameter_figure_is_figure_8(folder):
+    sweep = open_sweep(folder)
+    fig = parameter_figure(sweep, "excitation.angle", column="left:C9")
+    axes = fig.axes
+    assert [ax.get_ylabel() for ax in axes] == ["peak Δx (mm)", "peak Δy (mm)", "peak Δθ (mrad)"]
+    assert axes[-1].get_xlabel() == "excitation.angle (°)"
+    lines = axes[0].get_lines()
+    assert len(lines) == 4 * 2  # a line per storey and per gap
+    rows = [r for r in sweep.rows if r["study"] == "angle" and r["buildings.right.origin[0]"] == 8.02]
+    first = lines[0]
+    np.testing.assert_array_equal(first.get_xdata(), [0, 45, 90, 135])
+    np.testing.assert_allclose(first.get_ydata(), [1e3 * r["peak_isd_x_m[left/C9/1]"] for r in rows])
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert legend[:4] == ["storey 1", "storey 2", "storey 3", "storey 4"]
+    assert "angle: buildings.right.origin[0]=8.05" in legend
+
+
+def test_polar_figure(folder):
+    fig = parameter_figure(open_sweep(folder), "excitation.angle", column="left:C9", polar=True)
+    assert [ax.name for ax in fig.axes] == ["polar"] * 3
+    np.testing.assert_allclose(fig.axes[0].get_lines()[0].get_xdata(), np.radians([0, 45, 90, 135]))
+
+
+def test_bars_of_named_cases(folder):
+    sweep = open_sweep(folder)
+    rows = match_cases(sweep, ["cases/*"])
+    fig = cases_figure(sweep, rows, column="left:C9")
+    axes = fig.axes
+    assert [ax.get_ylabel() for ax in axes] == ["peak Δx (mm)", "peak Δy (mm)", "peak Δθ (mrad)"]
+    assert [t.get_text() for t in axes[-1].get_xticklabels()] == [f"storey {s}" for s in range(1, 5)]
+    bars = axes[0].containers
+    assert [b.get_label() for b in bars] == ["cases/pounding", "cases/no pounding", "cases/e_y = 0.4 m"]
+    heights = [p.get_height() for p in bars[1].patches]
+    np.testing.assert_allclose(heights, [1e3 * rows[1][f"peak_isd_x_m[left/C9/{s}]"] for s in range(1, 5)])
+
+
+def test_cli_plots(folder, tmp_path):
+    out = tmp_path / "plots"
+    r = runner.invoke(app, ["report", str(folder), "--plots", str(out), "--column", "left:C9",
+                            "--y", "peak_isd_theta_rad[left/C9/*]", "--html", str(tmp_path / "s.html")])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(["sweep-excitation.angle.png", "sweep-excitation.angle-polar.png",
+                            "sweep-excitation.angle-impacts.png", "sweep-excitation.angle-columns.png",
+                            "sweep-cases-angle.png", "sweep-cases-cases.png"])  # fmt: skip
+    text = (tmp_path / "s.html").read_text(encoding="utf-8")
+    assert text.count("data:image/png;base64,") == 6 and "<caption>Sweep</caption>" in text
+    r = runner.invoke(app, ["report", str(folder), "--plots", str(tmp_path / "p2"), "--case", "*pounding",
+                            "--x", "buildings.right.origin[0]"])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in (tmp_path / "p2").iterdir()) == [
+        "sweep-buildings.right.origin_0-impacts.png", "sweep-buildings.right.origin_0.png", "sweep-cases.png"]
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--x", "contact.enabled"], "'contact.enabled' is not a numeric swept parameter"),
+    (["--column", "right:C1"], "no per-storey columns of 'right:C1'; it has left:C9"),
+    (["--case", "nothing*"], "no case matches 'nothing*'"),
+    (["--y", "peak_*[nowhere]"], "no summary column matches"),
+    (["--animate", "a.gif"], "--animate: applies to result files, not to a sweep folder"),
+])  # fmt: skip
+def test_cli_errors(folder, tmp_path, args, words):
+    r = runner.invoke(app, ["report", str(folder), "--plots", str(tmp_path / "p"), *args])
+    assert r.exit_code == 2, r.output
+    assert words in r.stderr
+
+
+def test_failed_cases_are_said_first(folder, tmp_path):
+    """A summary whose case failed (the report reads only the summary: rewrite one status)."""
+    import shutil
+
+    copy = tmp_path / "copy"
+    shutil.copytree(folder, copy)
+    with h5py.File(copy / "summary.h5", "r+") as f:
+        table = f["cases"][()]
+        table["status"][2] = "failed: unstable at t = 3.2 s"
+        f["cases"][...] = table
+    r = runner.invoke(app, ["report", str(copy)], env=WIDE)
+    assert r.exit_code == 0
+    first = r.stdout.strip().splitlines()[0]
+    assert first.startswith("INCOMPLETE SWEEP: 1 of 11 cases FAILED (angle/") and "unstable at t = 3.2 s" in first
+    assert "INCOMPLETE SWEEP" in r.stderr
+    doc = sweep_summary(copy)
+    assert doc["complete"] is False and doc["counts"]["failed"] == 1
+
+
+def test_a_folder_that_is_not_a_sweep(tmp_path):
+    r = runner.invoke(app, ["report", str(tmp_path)])
+    assert r.exit_code == 2 and "not a sweep output folder (no summary.h5)" in r.stderr
+    (tmp_path / "sweep.json").write_text("{}")
+    r = runner.invoke(app, ["report", str(tmp_path)])
+    assert r.exit_code == 2 and "rebuild_summary" in r.stderr
