@@ -12,7 +12,7 @@ import re
 import tomllib
 import types
 import typing
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -30,10 +30,18 @@ class LoadedModel:
 
     model: PoundModel
     source: Path  # as the user named it: messages quote it so
+    folder: Path | None = field(default=None, compare=False)
+    """The model file's folder, absolute, fixed when the model is loaded: paths in the model
+    are relative to it, whatever the current directory is later."""
+
+    def __post_init__(self) -> None:
+        if self.folder is None:
+            object.__setattr__(self, "folder", Path(self.source).parent.resolve())
 
     def resolve(self, relative: str) -> Path:
-        """A path named in the model, resolved against the model file's folder."""
-        return (self.source.parent / relative).resolve()
+        """A path named in the model (relative to the model file, or absolute), resolved
+        against the model file's folder, never against the current directory."""
+        return (self.folder / relative).resolve()
 
 
 def read_document(path: str | Path) -> dict[str, Any]:

@@ -50,10 +50,13 @@ class RecordOrigin:
     file: Path
     prefix: str = ""
     referrer: tuple[Path, str] | None = None
+    base: Path | None = None
+    """The folder component files are relative to (absolute), if not the file's own folder
+    as it is when the origin is made: a model's folder as it was when the model was loaded."""
 
     @property
     def folder(self) -> Path:
-        return self.file.parent
+        return self.base if self.base is not None else self.file.parent.resolve()
 
     def error(self, field: str, message: str) -> InputError:
         """An InputError about `field` of the record (relative to the record's keys)."""

@@ -156,7 +156,7 @@ def _text_record(
             f"give units ({', '.join(UNIT_FACTORS)})",
             field="units",
         )
-    _check_samples(step, values, path)
+    _check_samples(step, values, path, factor)
     return Accelerogram(step, values * factor, str(path), None, None, units)
 
 
@@ -172,11 +172,13 @@ def _trace_record(trace: Trace, path: Path, dt: float | None, units: str | None,
         raise RecordReadError(f"{path}: {trace.id} does not hold real numbers ({err})") from err
     declared = _declared_units(trace)
     if declared is not None:  # the file says its units: converted (or calibrated) to m/s²
-        in_file, key, calibration = declared
-        if factor not in (None, 1.0, UNIT_FACTORS.get(key)):
+        in_file, file_factor, calibration = declared
+        if factor not in (None, 1.0) and not (file_factor and abs(factor - file_factor) <= 1e-12 * file_factor):
+            same = [name for name, f in UNIT_FACTORS.items() if file_factor and abs(f - file_factor) <= 1e-12 * f]
+            write = " or ".join(repr(name) for name in dict.fromkeys([*same[:1], "m/s2"]))
             raise RecordReadError(
                 f"{path}: the file declares its values in {in_file} (pound converts them to m/s²); "
-                f"'units' = {units!r} contradicts it: write {key!r} or 'm/s2'",
+                f"'units' = {units!r} contradicts it: write {write}",
                 field="units",
             )
         values, units, factor = values * calibration if calibration != 1.0 else values, in_file, 1.0
@@ -187,7 +189,7 @@ def _trace_record(trace: Trace, path: Path, dt: float | None, units: str | None,
             f"give units ({', '.join(UNIT_FACTORS)})",
             field="units",
         )
-    _check_samples(step, values, path)
+    _check_samples(step, values, path, factor)
     return Accelerogram(step, values * factor, f"{path} [{trace.id}]", str(trace.stats.starttime),
                         trace.id, units, file_header(trace))
 
@@ -234,20 +236,25 @@ def _decode(path: Path) -> str:
         raise RecordReadError(f"{path}: cannot read the file ({err.strerror or err})") from err
 
 
-def _declared_units(trace: Trace) -> tuple[str, str, float] | None:
-    """(units as the file names them, the matching key of UNIT_FACTORS, factor still to
-    apply) when the file says what its values are; None for raw values (MiniSEED, SAC, ...).
+def _declared_units(trace: Trace) -> tuple[str, float | None, float] | None:
+    """(units as the file names them, their factor to m/s², factor still to apply) when the
+    file says what its values are; None for raw values (MiniSEED, SAC, ...).
 
-    pound's own readers (AT2, COSMOS) have already converted to m/s²; K-NET/KiK-net files
-    read by obspy hold counts whose ``stats.calib`` is m/s² per count.
+    pound's own readers (AT2, COSMOS) have already converted to m/s² and record the factor
+    they applied, so a file's "cm/sec2" matches the setting "cm/s2" (or "gal"); K-NET/KiK-net
+    files read by obspy hold counts whose ``stats.calib`` is m/s² per count.
     """
     for key in ("at2", "cosmos"):
         info = trace.stats.get(key)
         if info is not None and info.get("units") == "m/s2":
             in_file = str(info.get("units_in_file"))
-            return in_file, in_file.strip().lower().replace(" ", ""), 1.0
+            try:
+                file_factor = float(info.get("factor"))
+            except (TypeError, ValueError):
+                file_factor = UNIT_FACTORS.get(in_file.strip().lower().replace(" ", ""))
+            return in_file, file_factor, 1.0
     if trace.stats.get("knet") is not None:
-        return "counts × calib (K-NET scale factor, to m/s²)", "m/s2", float(trace.stats.calib)
+        return "counts × calib (K-NET scale factor, to m/s²)", 1.0, float(trace.stats.calib)
     return None
 
 
@@ -394,8 +401,15 @@ def with_values(record: Accelerogram, values: np.ndarray, dt: float | None = Non
     return replace(record, acceleration=values, dt=record.dt if dt is None else dt, source=source)
 
 
-def _check_samples(dt: float, values: np.ndarray, path: Path) -> None:
-    """Raise unless there are at least two finite samples and dt is finite and positive."""
+MAX_ACCELERATION = 1000.0 * UNIT_FACTORS["g"]
+"""Largest ground acceleration a file may hold, m/s² (1000 g). The largest ever recorded
+are a few g; a value far beyond is a unit mistake (counts, mm/s²) or a damaged file, and
+refusing it here keeps overflow (an Arias intensity of inf) out of everything downstream."""
+
+
+def _check_samples(dt: float, values: np.ndarray, path: Path, factor: float = 1.0) -> None:
+    """Raise unless there are at least two finite samples, no larger than MAX_ACCELERATION
+    once multiplied by `factor` (to m/s²), and dt is finite and positive."""
     if not (math.isfinite(dt) and dt > 0.0):
         raise RecordReadError(f"{path}: sample interval dt = {dt!r} s is not finite and positive")
     if values.size < 2:
@@ -403,4 +417,13 @@ def _check_samples(dt: float, values: np.ndarray, path: Path) -> None:
         raise RecordReadError(f"{path}: {count}; a record needs at least two")
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
-        raise RecordReadError(f"{path}: non-finite value at sample index {int(bad[0])}")
+        raise RecordReadError(f"{path}: non-finite value (NaN, inf, or beyond float range in m/s²) at "
+                              f"sample index {int(bad[0])}")
+    huge = np.flatnonzero(np.abs(values) * factor > MAX_ACCELERATION)
+    if huge.size:
+        i = int(huge[0])
+        raise RecordReadError(
+            f"{path}: sample index {i} is {float(values[i]) * factor:.6g} m/s², more than "
+            f"{MAX_ACCELERATION / UNIT_FACTORS['g']:g} g, which no ground motion reaches; check the units "
+            "of the file (counts? mm/s²?) or the value"
+        )

@@ -423,7 +423,8 @@ def _trace(channel: _Channel, block: _Block, headonly: bool) -> Trace:
     }
     if headonly or block.values is None:
         return Trace(header=stats)
-    return Trace(data=block.values * block.factor, header=stats)
+    with np.errstate(over="ignore"):  # a value beyond float range in SI is refused by the caller
+        return Trace(data=block.values * block.factor, header=stats)
 
 
 def _orientation(channel: _Channel) -> str:
