@@ -12,8 +12,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import signal
-import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +32,7 @@ from .assembly import (
     time_grid,
 )
 from .errors import InputError
+from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
@@ -152,6 +151,8 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "floor_masses_kg": masses[:, 0].tolist(),
                 "rotational_inertia_kgm2": masses[:, 2].tolist(),
                 "columns": len(bld.column_lines),
+                "isolators": sum(mb.kind == "isolator" for mb in bld.members),
+                "yielding_columns": sum(mb.kind == "column" for mb in bld.members),
                 "periods_s": bld.modes.periods[:n].tolist(),
                 "participating_mass_ratio_x_y_theta": bld.modes.participation[:n].tolist(),
                 "rayleigh": {
@@ -240,26 +241,6 @@ def where_it_failed(system: System, dof: int) -> str:
     b = int(np.searchsorted(system.floor_start, floor, side="right")) - 1
     level = floor - int(system.floor_start[b]) + 1
     return f"first at building {system.buildings[b].name!r}, floor {level} ({('u_x', 'u_y', 'θ')[dof % 3]})"
-
-
-class terminate_as_interrupt:
-    """Within the block, SIGTERM interrupts like Ctrl-C: the time loop stops between chunks,
-    the partial results are written marked "failed: interrupted", and the run exits 1.
-    (Only in the main thread, where Python delivers signals.)"""
-
-    def __enter__(self) -> "terminate_as_interrupt":
-        self.previous = None
-        if threading.current_thread() is threading.main_thread():
-            self.previous = signal.signal(signal.SIGTERM, self._interrupt)
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self.previous is not None:
-            signal.signal(signal.SIGTERM, self.previous)
-
-    @staticmethod
-    def _interrupt(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt
 
 
 def execute(

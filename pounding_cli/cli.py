@@ -558,7 +558,10 @@ def _print_description(info: dict[str, Any]) -> None:
     for b in info["buildings"]:
         storeys = f"{b['storeys']} storey" + ("s" if b["storeys"] != 1 else "")
         out.print(f"[bold]building {b['name']}[/bold]: {storeys}, {b['height_m']:g} m, "
-                  f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines")  # fmt: skip
+                  f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines"
+                  + (f" ({b['yielding_columns']} yielding column instances)" if b["yielding_columns"] else "")
+                  + (f"; base-isolated on {b['isolators']} isolators (storey 1, floor 1 = base slab)"
+                     if b["isolators"] else ""))  # fmt: skip
         table = Table()
         for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
             table.add_column(col, justify="right")

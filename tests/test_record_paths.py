@@ -103,9 +103,6 @@ def test_a_loaded_model_keeps_its_folder_when_the_directory_changes(project, mon
     assert pound.prepare(loaded).ground.acceleration.shape[0] == 23
 
 
-@pytest.mark.xfail(reason="assembly/ground.py builds the inline record's RecordOrigin from the model path as "
-                          "named; it needs RecordOrigin(..., base=loaded.folder) (owned by the assembly work)",
-                   strict=False)  # fmt: skip
 def test_a_loaded_model_with_an_inline_record_keeps_its_folder(project, monkeypatch):
     monkeypatch.chdir(project / "project")
     loaded = pound.load_model("models/inline.json")

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Building, Material
+from ..model.inelastic import Bearing, Hysteresis
 from .columns import column_local_stiffness, column_plan_stiffness, storey_stiffness
 from .modal import Modes, modes, rayleigh_coefficients
 from .polygon import polar_moment_about_centroid, polygon_area, polygon_centroid
@@ -52,6 +53,8 @@ class BuildingArrays:
     columns: list[ColumnInstance]
     modes: Modes
     rayleigh: tuple[float, float]  # (a0 1/s, a1 s)
+    members: list["Member"]  # yielding members: inelastic columns, isolators
+    isolated: bool = False  # floor 0 is a base slab on isolators
 
     @property
     def n_floors(self) -> int:
@@ -65,31 +68,78 @@ def _plan_transform(building: Building):
     return phi, (lambda p: origin + rot @ np.asarray(p, dtype=float)), rot
 
 
+@dataclass(frozen=True)
+class Member:
+    """A yielding member: an inelastic column in one storey, or an isolator. Its bilinear law
+    acts along its local axes (angle from global X): initial stiffness k, yield force F_y,
+    post-yield stiffness α·k per axis."""
+
+    name: str  # column line or isolator name
+    kind: str  # "column" or "isolator"
+    storey: int  # building storey, 0 = lowest (the isolation storey of an isolated building)
+    arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global; 0 on the ground)
+    arm_top: np.ndarray  # offset from the top floor's mass centre, m (global)
+    angle: float  # rad, local x axis from global X
+    stiffness: tuple[float, float]  # initial k along local x, y, N/m
+    yield_force: tuple[float, float]  # N
+    post_yield_ratio: tuple[float, float]
+    coupled: bool  # elliptical yield surface (else one spring per axis)
+
+
 def assemble_building(
-    building: Building, materials: dict[str, Material], field: str, source: str
+    building: Building,
+    materials: dict[str, Material],
+    field: str,
+    source: str,
+    laws: dict[str, Hysteresis] | None = None,
+    bearings: dict[str, Bearing] | None = None,
 ) -> BuildingArrays:
     """Arrays of one building. `field` is its path in the model (for error messages)."""
+    laws, bearings = laws or {}, bearings or {}
     phi, to_plan, rot = _plan_transform(building)
     storeys = building.storeys()
-    n = len(storeys)
+    iso = building.isolation
+    # (height, slab, mass, J, eccentricity) bottom up; the base slab first when isolated
+    levels = [(f.height, f.slab, f.mass, f.mass_per_area, f.rotational_inertia, f.eccentricity) for f in storeys]
+    if iso is not None:
+        levels.insert(0, (iso.height, iso.slab, iso.mass, iso.mass_per_area, iso.rotational_inertia, (0.0, 0.0)))
+    base = 1 if iso is not None else 0
+    n = len(levels)
     mass = np.empty(3 * n)
     centre = np.empty((n, 2))
-    elevation = np.cumsum([f.height for f in storeys])
+    elevation = np.cumsum([lv[0] for lv in levels])
     slabs = []
-    for i, floor in enumerate(storeys):
-        local = np.asarray(floor.slab, dtype=float)
+    for i, (_, slab, m_given, m_area, j_given, ecc) in enumerate(levels):
+        local = np.asarray(slab, dtype=float)
         area = polygon_area(local)
-        m = floor.mass if floor.mass is not None else floor.mass_per_area * area
-        j = floor.rotational_inertia or m * polar_moment_about_centroid(local) / area
+        m = m_given if m_given is not None else m_area * area
+        j = j_given or m * polar_moment_about_centroid(local) / area
         mass[3 * i : 3 * i + 3] = m, m, j
-        centre[i] = to_plan(polygon_centroid(local) + np.asarray(floor.eccentricity))
+        centre[i] = to_plan(polygon_centroid(local) + np.asarray(ecc))
         slabs.append(np.array([to_plan(p) for p in local]))
 
     lines: dict[str, int] = {}
     column_lines: list[ColumnLine] = []
     instances: list[ColumnInstance] = []
+    members: list[Member] = []
     storey_k = np.empty((n, 6, 6))
-    for s, floor in enumerate(storeys):
+    if iso is not None:
+        plan_k, arms_b, arms_t = [], [], []
+        for isolator in iso.all_isolators():
+            bearing = bearings[isolator.bearing]
+            k1 = bearing.initial_stiffness
+            p = to_plan((isolator.x, isolator.y))
+            plan_k.append(column_plan_stiffness(k1, k1, phi))
+            arms_b.append(np.zeros(2))
+            arms_t.append(p - centre[0])
+            fy = bearing.yield_strength()
+            alpha = bearing.post_yield_stiffness / k1
+            members.append(Member(isolator.name, "isolator", 0, np.zeros(2), arms_t[-1], phi, (k1, k1), (fy, fy),
+                                  (alpha, alpha), bearing.interaction == "elliptical"))  # fmt: skip
+        storey_k[0] = storey_stiffness(plan_k, arms_b, arms_t)
+        _check_storey(storey_k[0], 0, building, field, source)
+    for s0, floor in enumerate(storeys):
+        s = s0 + base
         plan_k, arms_b, arms_t = [], [], []
         for col in floor.all_columns():
             if col.name not in lines:
@@ -99,12 +149,19 @@ def assemble_building(
                 )
             e = materials[col.material].elastic_modulus
             kx, ky = column_local_stiffness(e, *col.section, floor.height)
-            plan_k.append(column_plan_stiffness(kx, ky, phi + np.radians(col.angle)))
+            angle = phi + np.radians(col.angle)
+            plan_k.append(column_plan_stiffness(kx, ky, angle))
             p = to_plan((col.x, col.y))
             arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
             instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1]))
+            if col.hysteresis is not None:
+                law = laws[col.hysteresis]
+                fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])
+                a = law.post_yield_ratio
+                members.append(Member(col.name, "column", s, arm_b, arms_t[-1], angle, (kx, ky), tuple(fy), (a, a),
+                                      law.interaction == "elliptical"))  # fmt: skip
         storey_k[s] = storey_stiffness(plan_k, arms_b, arms_t)
         _check_storey(storey_k[s], s, building, field, source)
 
@@ -158,6 +215,8 @@ def assemble_building(
         columns=instances,
         modes=building_modes,
         rayleigh=rayleigh,
+        members=members,
+        isolated=iso is not None,
     )
 
 
@@ -180,6 +239,13 @@ def _check_storey(k6: np.ndarray, s: int, building: Building, field: str, source
     """A storey must resist x, y and torsion: its 3×3 stiffness against top-floor motion
     (bottom held) must be positive definite."""
     eig = np.linalg.eigvalsh(k6[3:, 3:])
+    if eig[0] <= 1e-9 * eig[-1] and building.isolation is not None:
+        if s == 0:
+            raise InputError(
+                "the base slab has no torsional stiffness (its isolators all stand at one plan point); "
+                "add isolators elsewhere in plan", file=source, field=f"{field}.isolation",
+            )  # fmt: skip
+        s -= 1
     if eig[0] <= 1e-9 * eig[-1]:
         k = 0
         for idx, floor in enumerate(building.floors):

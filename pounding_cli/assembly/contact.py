@@ -122,7 +122,8 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
             owners.append((b, f))
         start += bld.n_floors
     n_floors = start
-    for obstacle in model.obstacles:
+    obstacles = model.all_obstacles()
+    for obstacle in obstacles:
         poly = np.asarray(obstacle.polygon, dtype=float)
         polys.append(poly)
         floors.append(-1)
@@ -144,11 +145,11 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
                 if bb > ba and abs(bld_a.elevation[fa] - bld_b.elevation[fb]) < LEVEL_TOLERANCE:
                     info = PairInfo(bld_a.name, fa + 1, bld_b.name, fb + 1, float(bld_a.elevation[fa]))
                     candidates.append((ia, ib, info))
-        for o, obstacle in enumerate(model.obstacles):
+        for o, obstacle in enumerate(obstacles):
             for ia, (ba, fa, bld_a) in enumerate(flat):
                 if obstacle.spans(float(bld_a.elevation[fa]), LEVEL_TOLERANCE):
                     info = PairInfo(bld_a.name, fa + 1, obstacle.name, 0, float(bld_a.elevation[fa]))
-                    _check_apart(polys[ia], polys[n_floors + o], info, f"obstacles[{o}].polygon", loaded)
+                    _check_apart(polys[ia], polys[n_floors + o], info, _obstacle_field(model, o), loaded)
                     candidates.append((ia, n_floors + o, info))
 
     k_pairs = [_pair_stiffness(loaded, info, i, j, n_floors) for i, j, info in candidates]
@@ -158,6 +159,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     meff = np.array([m[i] if not np.isfinite(m[j]) else m[i] * m[j] / (m[i] + m[j]) for i, j, _ in candidates])
     zeta = restitution_damping_ratio(contact.restitution) if contact.restitution not in (None, 1.0) else 0.0
     n = len(candidates)
+    mu = [_pair_friction(contact, obstacles, j - n_floors) for _, j, _ in candidates]
     arrays = ContactArrays(
         body_poly=body_poly,
         body_nv=nv,
@@ -168,8 +170,8 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         pair_b=np.array([c[1] for c in candidates], dtype=np.int64),
         pair_kn=kn,
         pair_kt=kt,
-        pair_mu_s=np.full(n, contact.friction_static),
-        pair_mu_k=np.full(n, contact.friction_kinetic),
+        pair_mu_s=np.array([m[0] for m in mu], dtype=float),
+        pair_mu_k=np.array([m[1] for m in mu], dtype=float),
         pair_cn=np.full(n, contact.damping_normal or 0.0),
         pair_zeta=np.full(n, zeta),
         pair_ct=np.full(n, contact.damping_tangential or 0.0),
@@ -179,6 +181,31 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     )
     omega = contact_omega(arrays, m, np.asarray(inertias), polys)
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega})
+
+
+def _obstacle_field(model, o: int) -> str:
+    """The model field of obstacle o of all_obstacles(): given, or a moat wall segment."""
+    if o < len(model.obstacles):
+        return f"obstacles[{o}].polygon"
+    o -= len(model.obstacles)
+    for b, building in enumerate(model.buildings):
+        iso = building.isolation
+        if iso is not None and iso.moat is not None:
+            if o < len(iso.slab):
+                return f"buildings[{b}].isolation.moat.gap"
+            o -= len(iso.slab)
+    return "obstacles"
+
+
+def _pair_friction(contact, obstacles: list, o: int) -> tuple[float, float]:
+    """(μ_s, μ_k) of a pair: [contact]'s, or the obstacle's own (o < 0: two floors); μ_k is
+    capped at μ_s."""
+    mu_s, mu_k = contact.friction_static, contact.friction_kinetic
+    if o >= 0:
+        obstacle = obstacles[o]
+        mu_s = obstacle.friction_static if obstacle.friction_static is not None else mu_s
+        mu_k = obstacle.friction_kinetic if obstacle.friction_kinetic is not None else mu_k
+    return mu_s, min(mu_k, mu_s)
 
 
 def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: str, loaded: LoadedModel) -> None:
@@ -200,13 +227,17 @@ def _pair_stiffness(loaded: LoadedModel, info: PairInfo, i: int, j: int, n_floor
     model = loaded.model
     contact = model.contact
     kn, kt = contact.k_normal, contact.k_tangential
+    if j >= n_floors:
+        obstacle = model.all_obstacles()[j - n_floors]
+        kn = obstacle.k_normal if obstacle.k_normal is not None else kn
+        kt = obstacle.k_tangential if obstacle.k_tangential is not None else kt
     if kn != "auto" and kt != "auto":
         return float(kn), float(kt)
     materials = []
     for name in (info.body_a, info.body_b):
         building = next((b for b in model.buildings if b.name == name), None)
         if building is None:
-            obstacle = next(o for o in model.obstacles if o.name == name)
+            obstacle = next(o for o in model.all_obstacles() if o.name == name)
             materials.append(model.materials[obstacle.material])
             continue
         slab = building.slab_material_name()

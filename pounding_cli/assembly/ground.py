@@ -64,7 +64,7 @@ def resolve_record(loaded: LoadedModel) -> tuple[Record, RecordOrigin, Path | No
     """
     excitation = loaded.model.excitation
     if isinstance(excitation.record, Record):
-        return excitation.record, RecordOrigin(loaded.source, "excitation.record."), None
+        return excitation.record, RecordOrigin(loaded.source, "excitation.record.", base=loaded.folder), None
     path = loaded.resolve(excitation.record)
     try:
         record = load_record(path)

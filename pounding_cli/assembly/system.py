@@ -21,6 +21,34 @@ LEVEL_TOLERANCE = 1e-3
 
 
 @dataclass(frozen=True)
+class MemberArrays:
+    """The yielding members of all buildings (inelastic columns, isolators), for the solver.
+    Each is a bilinear law split into an elastic spring k (in the storey stiffness) and an
+    elastic–perfectly-plastic correction of stiffness k_h = (1 − α)·k and strength
+    f_h = (1 − α)·F_y carried by its plastic deflection (docs/theory.md)."""
+
+    bottom: np.ndarray  # (n,) int64 global floor below, −1 = ground
+    top: np.ndarray  # (n,) int64 global floor above
+    arm_bottom: np.ndarray  # (n, 2) from the bottom floor's mass centre, m
+    arm_top: np.ndarray  # (n, 2) from the top floor's mass centre, m
+    axes: np.ndarray  # (n, 2) cos, sin of the local x axis from global X
+    k0: np.ndarray  # (n, 2) initial stiffness along local x, y, N/m
+    kh: np.ndarray  # (n, 2) (1 − α)·k, N/m
+    fh: np.ndarray  # (n, 2) (1 − α)·F_y, N
+    coupled: np.ndarray  # (n,) int64, 1: elliptical yield surface
+    building: np.ndarray  # (n,) int64 building index
+
+    @property
+    def n(self) -> int:
+        return self.top.size
+
+    @property
+    def yield_deflection(self) -> np.ndarray:
+        """(n, 2) F_y/k, m."""
+        return self.fh / self.kh
+
+
+@dataclass(frozen=True)
 class System:
     """The structural system as arrays (SI units)."""
 
@@ -36,6 +64,7 @@ class System:
     storey_axes: np.ndarray  # (n_storeys, 2) cos φ, sin φ of the storey's building rotation
     column_storey: np.ndarray  # (n_columns,) int64, global storey of each column instance
     column_plan: np.ndarray  # (n_columns, 2) global plan position, m
+    members: MemberArrays  # yielding members (may be none)
 
     @property
     def n_dof(self) -> int:
@@ -55,7 +84,7 @@ def assemble(loaded: LoadedModel) -> System:
     """Assemble every building of a validated model."""
     model = loaded.model
     buildings = [
-        assemble_building(b, model.materials, f"buildings[{i}]", str(loaded.source))
+        assemble_building(b, model.materials, f"buildings[{i}]", str(loaded.source), model.hysteresis, model.bearings)
         for i, b in enumerate(model.buildings)
     ]
     check_no_overlap_at_rest(buildings, str(loaded.source))
@@ -96,6 +125,20 @@ def combine(buildings: list[BuildingArrays]) -> System:
         for c in bld.columns:
             col_storey.append(f0 + c.storey)
             col_plan.append(bld.mass_centre[c.storey] + c.arm_top)
+    rows = []
+    for b, bld in enumerate(buildings):
+        f0 = int(start[b])
+        for m in bld.members:
+            k0 = np.array(m.stiffness)
+            rows.append((f0 + m.storey - 1 if m.storey > 0 else -1, f0 + m.storey, m.arm_bottom, m.arm_top,
+                         (np.cos(m.angle), np.sin(m.angle)), k0, (1 - np.array(m.post_yield_ratio)) * k0,
+                         (1 - np.array(m.post_yield_ratio)) * np.array(m.yield_force), int(m.coupled), b))  # fmt: skip
+    cols = list(zip(*rows)) if rows else [[] for _ in range(10)]
+    ints = {0, 1, 8, 9}
+    members = MemberArrays(*[
+        np.asarray(c, dtype=np.int64) if i in ints else np.asarray(c, dtype=float).reshape(-1, 2)
+        for i, c in enumerate(cols)
+    ])  # fmt: skip
     per_dof = [np.full(3 * b.n_floors, 1.0) for b in buildings]
     return System(
         buildings=buildings,
@@ -110,4 +153,5 @@ def combine(buildings: list[BuildingArrays]) -> System:
         storey_axes=np.asarray(axes, dtype=float).reshape(-1, 2),
         column_storey=np.asarray(col_storey, dtype=np.int64),
         column_plan=np.asarray(col_plan, dtype=float).reshape(-1, 2),
+        members=members,
     )

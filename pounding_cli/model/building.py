@@ -10,6 +10,7 @@ from typing import Annotated
 from pydantic import Field, field_validator, model_validator
 
 from .base import Count, Name, Positive, Real, Strict
+from .inelastic import Isolation
 from .slab import SlabPolygon
 
 Width = Annotated[Real, Field(ge=0.001, le=50.0)]
@@ -40,6 +41,9 @@ class Column(Strict):
     material: Name
     """Name of the column's material in [materials]."""
 
+    hysteresis: Name | None = None
+    """Name of the column's hysteretic law in [hysteresis]; absent: linear elastic."""
+
 
 class ColumnGrid(Strict):
     """Columns at every crossing of grid lines x × y, named C1, C2, … along y first, then
@@ -61,6 +65,9 @@ class ColumnGrid(Strict):
 
     material: Name
     """Name of the material of the generated columns in [materials]."""
+
+    hysteresis: Name | None = None
+    """Name of the generated columns' hysteretic law in [hysteresis]; absent: linear elastic."""
 
     prefix: Name = "C"
     """Prefix of the generated names: prefix + running number."""
@@ -112,6 +119,7 @@ class ColumnGrid(Strict):
                         section=self.sections.get(name, self.section),
                         angle=self.angle,
                         material=self.material,
+                        hysteresis=self.hysteresis,
                     )
                 )
         return out
@@ -204,7 +212,8 @@ class RayleighDamping(Strict):
 
 
 class Building(Strict):
-    """A shear-type building: floors listed from the bottom up, columns fixed at the ground."""
+    """A shear-type building: floors listed from the bottom up, columns fixed at the ground
+    (or on the base slab of an isolation system)."""
 
     name: Name
     """Building name, unique in the model; used as the HDF5 group name."""
@@ -221,6 +230,11 @@ class Building(Strict):
 
     damping: RayleighDamping = RayleighDamping()
     """Rayleigh damping of this building."""
+
+    isolation: Isolation | None = None
+    """The isolation system of a base-isolated building (base slab on isolators, optional moat
+    wall): the base slab becomes the building's lowest floor and the isolation storey its
+    lowest storey; `floors` stand on the base slab. Absent: columns fixed at the ground."""
 
     slab_material: Name | None = None
     """Material of the floor slabs in [materials], for "auto" impact stiffness. Default:

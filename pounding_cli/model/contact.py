@@ -92,6 +92,19 @@ class Obstacle(Strict):
     material: Name
     """Name of the obstacle's material in [materials] (for "auto" impact stiffness)."""
 
+    k_normal: Annotated[Real, Field(gt=0, le=1e15)] | None = None
+    """Normal impact stiffness against this obstacle per unit overlap area, N/m²; default:
+    as [contact] gives it."""
+
+    k_tangential: Annotated[Real, Field(gt=0, le=1e15)] | None = None
+    """Tangential impact stiffness against this obstacle, N/m; default: as [contact] gives it."""
+
+    friction_static: Annotated[Real, Field(ge=0, le=10)] | None = None
+    """Static friction coefficient against this obstacle; default: [contact]'s."""
+
+    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
+    """Kinetic friction coefficient against this obstacle; default: [contact]'s."""
+
     @model_validator(mode="after")
     def _range_ordered(self) -> "Obstacle":
         if isinstance(self.elevation, tuple) and self.elevation[0] > self.elevation[1]:

@@ -12,6 +12,7 @@ from .base import Name
 from .building import Building
 from .contact import Contact, Obstacle
 from .excitation import Excitation
+from .inelastic import Bearing, Hysteresis, moat_wall_polygons
 from .material import Material
 
 
@@ -23,6 +24,12 @@ class PoundModel(Strict):
 
     materials: Annotated[dict[Name, Material], Field(min_length=1)]
     """Materials by name, referred to by columns."""
+
+    hysteresis: dict[Name, Hysteresis] = {}
+    """Hysteretic laws of inelastic columns by name, referred to by columns."""
+
+    bearings: dict[Name, Bearing] = {}
+    """Isolation bearing types by name, referred to by isolators."""
 
     buildings: Annotated[list[Building], Field(min_length=1, max_length=1000)]
     """The buildings, each with its own floors, columns and damping."""
@@ -65,4 +72,61 @@ class PoundModel(Strict):
         for o, obstacle in enumerate(self.obstacles):
             if obstacle.material not in self.materials:
                 out.append((f"obstacles[{o}].material", f"unknown material {obstacle.material!r}; defined: {defined}"))
+        return out + self._yielding_problems(first)
+
+    def _yielding_problems(self, bodies: dict[str, str]) -> list[tuple[str, str]]:
+        """Unknown hysteretic laws, bearings and moat materials; moat names that clash."""
+        out = []
+        laws = ", ".join(self.hysteresis) or "none"
+        bearings = ", ".join(self.bearings) or "none"
+        for b, building in enumerate(self.buildings):
+            for f, floor in enumerate(building.floors):
+                path = f"buildings[{b}].floors[{f}]"
+                used = [(f"{path}.columns[{c}].hysteresis", col.hysteresis) for c, col in enumerate(floor.columns)]
+                if floor.column_grid is not None:
+                    used.insert(0, (f"{path}.column_grid.hysteresis", floor.column_grid.hysteresis))
+                out += [(field, f"unknown hysteretic law {name!r}; defined in [hysteresis]: {laws}")
+                        for field, name in used if name is not None and name not in self.hysteresis]  # fmt: skip
+            iso = building.isolation
+            if iso is None:
+                continue
+            path = f"buildings[{b}].isolation"
+            used = [(f"{path}.isolators[{i}].bearing", x.bearing) for i, x in enumerate(iso.isolators)]
+            if iso.isolator_grid is not None:
+                used.insert(0, (f"{path}.isolator_grid.bearing", iso.isolator_grid.bearing))
+            out += [(field, f"unknown bearing {name!r}; defined in [bearings]: {bearings}")
+                    for field, name in used if name not in self.bearings]  # fmt: skip
+            if iso.moat is not None:
+                if iso.moat.material not in self.materials:
+                    out.append((f"{path}.moat.material", f"unknown material {iso.moat.material!r}; "
+                                f"defined: {', '.join(self.materials)}"))  # fmt: skip
+                for o in self._moat_walls(building):
+                    if o.name in bodies:
+                        out.append((f"{path}.moat", f"its wall segments are named {o.name!r}…, which "
+                                    f"{bodies[o.name]} already uses"))  # fmt: skip
+                        break
         return out
+
+    def all_obstacles(self) -> list[Obstacle]:
+        """The obstacles given, then the moat wall segments of isolated buildings."""
+        return list(self.obstacles) + [o for b in self.buildings for o in self._moat_walls(b)]
+
+    @staticmethod
+    def _moat_walls(building: Building) -> list[Obstacle]:
+        """Wall segments "<building>.moat<k>" around the base slab, at its elevation."""
+        iso = building.isolation
+        if iso is None or iso.moat is None:
+            return []
+        import math
+
+        phi = math.radians(building.rotation)
+        c, s = math.cos(phi), math.sin(phi)
+        ox, oy = building.origin
+        plan = [(ox + c * x - s * y, oy + s * x + c * y) for x, y in iso.slab]
+        moat = iso.moat
+        overrides = {k: getattr(moat, k) for k in ("k_normal", "k_tangential", "friction_static", "friction_kinetic")}
+        return [
+            Obstacle(name=f"{building.name}.moat{k + 1}", polygon=wall, elevation=iso.height, material=moat.material,
+                     **overrides)  # fmt: skip
+            for k, wall in enumerate(moat_wall_polygons(plan, moat.gap, moat.thickness))
+        ]

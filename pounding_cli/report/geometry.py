@@ -101,7 +101,7 @@ def plan_geometry(run: Run) -> PlanGeometry:
         for f in range(b.n_floors):
             slabs.append(Slab(b.name, f + 1, float(b.elevation[f]), b.slabs[f], np.asarray(centres[f], dtype=float)))
     obstacles = []
-    for o in loaded.model.obstacles:
+    for o in loaded.model.all_obstacles():
         bottom, top = o.elevation if isinstance(o.elevation, tuple) else (o.elevation, o.elevation)
         obstacles.append(Obstacle(o.name, _counter_clockwise(np.asarray(o.polygon, dtype=float)), float(bottom), float(top)))
     return PlanGeometry(slabs, obstacles)

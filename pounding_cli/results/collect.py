@@ -9,10 +9,32 @@ import numpy as np
 from ..assembly import BuildingArrays, ContactArrays, System
 from ..solver import Response
 from ..solver import contact as kernel
-from .result import EVENT_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult
+from .result import EVENT_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult, YieldingResult
 
 
-def building_result(system: System, b: int, response: Response, column_offset: int) -> BuildingResult:
+def yielding_result(bld: BuildingArrays, response: Response, offset: int) -> YieldingResult | None:
+    """Building bld's yielding members, rows offset … of the response's member arrays."""
+    n = len(bld.members)
+    if n == 0:
+        return None
+    rows = np.zeros(n, MEMBER_DTYPE)
+    for k, m in enumerate(bld.members):
+        plan = bld.mass_centre[m.storey] + m.arm_top
+        rows[k] = (m.name, m.kind, m.storey + 1, plan[0], plan[1], np.degrees(m.angle), m.stiffness, m.yield_force,
+                   m.post_yield_ratio, m.coupled)  # fmt: skip
+    cut = slice(offset, offset + n)
+    history = response.member_history[:, cut]
+    return YieldingResult(
+        members=rows,
+        deflection=history[:, :, :2].copy(),
+        force=history[:, :, 2:].copy(),
+        peak=response.peak_member[cut].copy(),
+        residual_deflection=response.residual_member[cut].copy(),
+    )
+
+
+def building_result(system: System, b: int, response: Response, column_offset: int,
+                    member_offset: int = 0) -> BuildingResult:  # fmt: skip
     """Cut building b's part out of a response; its column instances start at column_offset."""
     bld: BuildingArrays = system.buildings[b]
     dofs = system.building_dofs(b)
@@ -43,6 +65,8 @@ def building_result(system: System, b: int, response: Response, column_offset: i
         periods=bld.modes.periods.copy(),
         participation=bld.modes.participation.copy(),
         rayleigh=(float(bld.rayleigh[0]), float(bld.rayleigh[1])),
+        yielding=yielding_result(bld, response, member_offset),
+        isolated=bld.isolated,
     )
 
 
@@ -84,10 +108,11 @@ def collect(
 ) -> RunResult:
     """Assemble a RunResult from the solver's response."""
     buildings = {}
-    offset = 0
+    offset = members = 0
     for b, bld in enumerate(system.buildings):
-        buildings[bld.name] = building_result(system, b, response, offset)
+        buildings[bld.name] = building_result(system, b, response, offset, members)
         offset += len(bld.columns)
+        members += len(bld.members)
     return RunResult(
         time=response.time,
         ground_acceleration=response.ground,

@@ -15,7 +15,16 @@ from typing import Any
 import h5py
 import numpy as np
 
-from .result import ENERGY_NAMES, EVENT_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult
+from .result import (
+    ENERGY_NAMES,
+    EVENT_DTYPE,
+    MEMBER_DTYPE,
+    PAIR_DTYPE,
+    BuildingResult,
+    ContactResult,
+    RunResult,
+    YieldingResult,
+)
 
 EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m"
@@ -147,6 +156,27 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
+    g.attrs["isolated"] = b.isolated
+    if b.yielding is not None:
+        _write_yielding(g.create_group("yielding"), b.yielding)
+
+
+def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
+    ds = g.create_dataset("members", data=y.members.astype(h5_dtype(MEMBER_DTYPE)), track_times=False)
+    ds.attrs["units"] = "-, -, -, m, m, deg, N/m, N, -, -"
+    ds.attrs["description"] = (
+        "yielding members: kind column or isolator; storey 1-based (an isolated building's storey 1 is "
+        "the isolation storey); X, Y global plan position; angle of the local x axis from global X; "
+        "stiffness, yield_force, post_yield_ratio along local x, y; elliptical: coupled yield surface"
+    )
+    common = dict(axes="member local x, y", sampling="output interval; peaks use every step")
+    _dataset(g, "deflection", y.deflection, "m", description="interstorey deflection, top minus bottom", **common)
+    _dataset(g, "force", y.force, "N", description="member shear force", **common)
+    _dataset(g, "peak", y.peak, "m, m, m, N, N, N", columns="|dx|, |dy|, |d|, |fx|, |fy|, |f|",
+             axes="member local x, y")  # fmt: skip
+    _dataset(g, "ductility", y.ductility, "-", columns="x, y", description="peak |deflection| / yield deflection")
+    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y",
+             description="deflection at rest once the motion has died away elastically from the final state")  # fmt: skip
 
 
 def read_hdf5(path: str | Path) -> RunResult:
@@ -210,6 +240,22 @@ def _read_building(g: h5py.Group) -> BuildingResult:
         periods=g["modes/period"][()],
         participation=g["modes/participating_mass_ratio"][()],
         rayleigh=(float(g["modes"].attrs["rayleigh_a0"]), float(g["modes"].attrs["rayleigh_a1"])),
+        yielding=_read_yielding(g["yielding"]) if "yielding" in g else None,
+        isolated=bool(g.attrs.get("isolated", False)),
+    )
+
+
+def _read_yielding(g: h5py.Group) -> YieldingResult:
+    raw = g["members"][()]
+    rows = np.zeros(raw.shape, MEMBER_DTYPE)
+    for field in MEMBER_DTYPE.names:
+        rows[field] = [v.decode() for v in raw[field]] if MEMBER_DTYPE[field] == object else raw[field]
+    return YieldingResult(
+        members=rows,
+        deflection=g["deflection"][()],
+        force=g["force"][()],
+        peak=g["peak"][()],
+        residual_deflection=g["residual_deflection"][()],
     )
 
 

@@ -11,6 +11,47 @@ import numpy as np
 from ..solver import ENERGY_NAMES
 
 
+MEMBER_DTYPE = np.dtype(
+    [
+        ("name", object),
+        ("kind", object),
+        ("storey", np.int64),
+        ("X", np.float64),
+        ("Y", np.float64),
+        ("angle", np.float64),
+        ("stiffness", np.float64, (2,)),
+        ("yield_force", np.float64, (2,)),
+        ("post_yield_ratio", np.float64, (2,)),
+        ("elliptical", np.bool_),
+    ]
+)
+"""One row per yielding member: name, "column" or "isolator", storey (1-based; storey 1 of an
+isolated building is the isolation storey), plan position (global, m), local x axis (degrees
+from global X), initial stiffness (N/m), yield force (N) and post-yield ratio along local x, y."""
+
+
+@dataclass
+class YieldingResult:
+    """A building's yielding members (inelastic columns, isolators): histories at the output
+    interval, peaks over every step. Deflections and forces are along each member's local axes."""
+
+    members: np.ndarray  # (n,) MEMBER_DTYPE
+    deflection: np.ndarray  # (nt, n, 2) δ_x, δ_y, m
+    force: np.ndarray  # (nt, n, 2) f_x, f_y, N
+    peak: np.ndarray  # (n, 6) |δ_x|, |δ_y|, |δ| m, |f_x|, |f_y|, |f| N
+    residual_deflection: np.ndarray  # (n, 2) m, at rest after the run
+
+    @property
+    def yield_deflection(self) -> np.ndarray:
+        """(n, 2) F_y/k, m."""
+        return self.members["yield_force"] / self.members["stiffness"]
+
+    @property
+    def ductility(self) -> np.ndarray:
+        """(n, 2) peak |δ| / δ_y along local x, y (below 1: the member stayed elastic)."""
+        return self.peak[:, :2] / self.yield_deflection
+
+
 @dataclass
 class BuildingResult:
     """One building's histories and peaks. Floors bottom up; storey s is below floor s."""
@@ -33,6 +74,8 @@ class BuildingResult:
     periods: np.ndarray  # (n_modes,) s
     participation: np.ndarray  # (n_modes, 3) effective modal mass ratios x, y, θ (building axes)
     rayleigh: tuple[float, float]  # (a0 1/s, a1 s)
+    yielding: YieldingResult | None = None  # inelastic columns and isolators, if any
+    isolated: bool = False  # floor 1 is a base slab on isolators (storey 1: the isolation storey)
 
     def column(self, name: str) -> np.ndarray:
         """Peak interstorey deflections (n_storeys, 3) of one column by name."""

@@ -31,6 +31,7 @@ import numpy as np
 from .jit import kernel
 
 from .contact import contact_forces
+from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
 
 # energy columns, in the order of the HDF5 /energy dataset
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = range(7)
@@ -40,8 +41,8 @@ ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact"
 # the number of steps with a contact, and a flag "no earlier power to integrate from" (set at
 # the start and when an integrator takes over at an instant already accounted for)
 (ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS,
- ACC_FRESH, ACC_ENERGY_FLOOR) = range(9)  # fmt: skip
-N_ACC = 9
+ ACC_FRESH, ACC_ENERGY_FLOOR, ACC_HYSTERETIC) = range(10)  # fmt: skip
+N_ACC = 10
 
 STATUS_OK, STATUS_DIVERGED, STATUS_ENERGY = 0, 1, 2
 
@@ -155,13 +156,14 @@ def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
 
 @kernel
 def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v, out_a, out_ground,
-                 out_energy, out_contact, u_limit):  # fmt: skip
-    """Store the state at output sample k (ku = K·u at that instant); returns STATUS_OK, or
+                 out_energy, out_contact, u_limit, e_plastic):  # fmt: skip
+    """Store the state at output sample k (ku = K·u at that instant, e_plastic what yielding
+    members change in the strain energy ½uᵀKu, hysteresis.py); returns STATUS_OK, or
     STATUS_DIVERGED when a displacement passes u_limit or is NaN, or STATUS_ENERGY when the
     energy balance error passes ENERGY_LIMIT of the energy in play."""
     n_dof = mass.size
     e_kin = 0.0
-    e_str = 0.0
+    e_str = e_plastic
     worst = 0.0
     for d in range(n_dof):
         e_kin += 0.5 * mass[d] * v[d] * v[d]
@@ -179,15 +181,16 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
     out_energy[k, E_KINETIC] = e_kin
     out_energy[k, E_STRAIN] = e_str
     out_energy[k, E_DAMPING] = acc[ACC_DAMPING]
-    out_energy[k, E_HYSTERETIC] = 0.0
+    e_hyst = acc[ACC_HYSTERETIC]
+    out_energy[k, E_HYSTERETIC] = e_hyst
     out_energy[k, E_CONTACT] = acc[ACC_CONTACT]
-    out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING] + acc[ACC_CONTACT])
+    out_energy[k, E_BALANCE] = acc[ACC_INPUT] - (e_kin + e_str + acc[ACC_DAMPING] + e_hyst + acc[ACC_CONTACT])
     for p in range(pair_now.shape[0]):
         for c in range(pair_now.shape[1]):
             out_contact[k, p, c] = pair_now[p, c]
     if not worst <= u_limit:
         return STATUS_DIVERGED
-    in_play = max(abs(acc[ACC_INPUT]), e_kin + e_str + acc[ACC_DAMPING] + abs(acc[ACC_CONTACT]))
+    in_play = max(abs(acc[ACC_INPUT]), e_kin + e_str + acc[ACC_DAMPING] + e_hyst + abs(acc[ACC_CONTACT]))
     if abs(out_energy[k, E_BALANCE]) > ENERGY_LIMIT * in_play and in_play > acc[ACC_ENERGY_FLOOR]:
         return STATUS_ENERGY
     return STATUS_OK
@@ -212,10 +215,14 @@ def advance(
     r, dv, v, a_abs, z, cv_next, storey_work,
     # contact: tuples of arrays (see contact.contact_forces), pair state, impact log, buffers
     geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+    # yielding members (hysteresis.py): parameters, plastic deflections, correction g, outputs
+    members, plastic, g, out_member, peak_member,
 ):
-    """Advance steps n_start … n_stop − 1; returns (status, last step done + 1)."""
+    """Advance steps n_start … n_stop − 1; returns (status, last step done + 1). A
+    displacement that passes u_limit or is NaN stops the run at that step (STATUS_DIVERGED)."""
     n_dof = mass.size
     n_floors = n_dof // 3
+    has_members = plastic.shape[0] > 0
     for n in range(n_start, n_stop):
         # 1. ground input at t_n
         agx, agy = ground_at(n * dt, ground, ground_dt)
@@ -231,9 +238,9 @@ def advance(
         # 4. residual and velocity increment
         for f in range(n_floors):
             d = 3 * f
-            r[d] = -mass[d] * agx - ku[d] - cv_half[d] + fc[d]
-            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1] + fc[d + 1]
-            r[d + 2] = -ku[d + 2] - cv_half[d + 2] + fc[d + 2]
+            r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
+            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
+            r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
         solve_blocks(binv, dof_start, dof_count, r, dv)
         # 5. state at t_n: central-difference velocity, absolute acceleration
         for d in range(n_dof):
@@ -262,15 +269,27 @@ def advance(
                      col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
         # 9. output and divergence check
         if n % stride == 0:
+            e_plastic = 0.0
+            if has_members:
+                member_states(u, members, plastic, n // stride, out_member, peak_member)
+                e_plastic = plastic_energy_terms(u, g, members, plastic)
             status = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
-                                  out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit)  # fmt: skip
+                                  out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit, e_plastic)  # fmt: skip
             if status != STATUS_OK:
                 return status, n + 1
-        # 10. update to t_{n+1} (the ground entries stay zero)
+        elif has_members:
+            member_states(u, members, plastic, -1, out_member, peak_member)
+        # 10. update to t_{n+1} (the ground entries stay zero); a bad value stops the run here
         for d in range(n_dof):
             u[d] += dt * v_half[d]
             ku[d] += dt * z[d]
             cv_half[d] = cv_next[d]
+            if not abs(u[d]) <= u_limit:
+                return STATUS_DIVERGED, n + 1
+        if has_members:
+            acc[ACC_HYSTERETIC] += update_members(u, members, plastic, g)[0]
         if (n + 1) % stride == 0:
             storey_matvec(u, storey_k, storey_bottom, storey_top, ku)
+            if has_members:
+                plastic_correction(members, plastic, g)
     return STATUS_OK, n_stop

@@ -23,6 +23,7 @@ import numpy as np
 
 from .cdm import (
     ACC_FRESH,
+    ACC_HYSTERETIC,
     STATUS_OK,
     accumulate_energy,
     advance,
@@ -34,6 +35,7 @@ from .cdm import (
     write_output,
 )
 from .contact import contact_possible_within
+from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import kernel
 
 MODE_EXACT, MODE_CDM = 0, 1
@@ -45,16 +47,16 @@ CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
 
 @kernel
 def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k, bottom, top,
-                ground, ground_dt):  # fmt: skip
-    """K·u, C·v and the accelerations (absolute and relative) at time t from the state (u, v).
-    Returns the ground acceleration (X, Y) at t."""
+                ground, ground_dt, g):  # fmt: skip
+    """K·u, C·v and the accelerations (absolute and relative) at time t from the state (u, v)
+    and the members' plastic correction g. Returns the ground acceleration (X, Y) at t."""
     agx, agy = ground_at(t, ground, ground_dt)
     n_dof = mass.size
     storey_matvec(u, storey_k, bottom, top, ku)
     storey_matvec(v, storey_k, bottom, top, kv)
     damping_force(v, kv, mass, dof_a0, dof_a1, n_dof, cv)
     for d in range(n_dof):
-        a_abs[d] = -(ku[d] + cv[d]) / mass[d]
+        a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
     for d in range(0, n_dof, 3):
         a_rel[d] = a_abs[d] - agx
         a_rel[d + 1] = a_abs[d + 1] - agy
@@ -88,8 +90,8 @@ def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, 
 @kernel
 def hybrid_advance(
     k_start, k_stop, h, sub, stride_h, u_limit,
-    # exact propagation
-    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters,
+    # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
+    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
     # everything cdm.advance takes after its first five arguments
     mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -98,17 +100,28 @@ def hybrid_advance(
     out_u, out_v, out_a, out_ground, out_energy, out_contact,
     r, dv, v, a_abs, z, cv_next, storey_work,
     geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+    members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
-    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done)."""
+    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
+
+    Yielding members: exact propagation holds while they are elastic, about the static
+    offset u_static = K⁻¹·g of their plastic deflections (M·ẅ + C·ẇ + K·w = p for
+    w = u − u_static); the CDM takes over while any member may reach its yield surface
+    within the horizon, as around contacts."""
     dt = h / sub
     n_dof = mass.size
     has_pairs = params[0].size > 0
+    has_members = plastic.shape[0] > 0
     for k in range(k_start, k_stop):
         t = k * h
         if mode[0] == MODE_EXACT:
             # the state at t_k: forces, energy, peaks, output
+            yielded = 0
+            if has_members:  # elastic unless the last substep overshot the yield surface
+                dissipated, yielded = update_members(u, members, plastic, g)
+                acc[ACC_HYSTERETIC] += dissipated
             agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k,
-                                   storey_bottom, storey_top, ground, ground_dt)  # fmt: skip
+                                   storey_bottom, storey_top, ground, ground_dt, g)  # fmt: skip
             p_in = 0.0
             p_damp = 0.0
             for d in range(0, n_dof, 3):
@@ -118,13 +131,28 @@ def hybrid_advance(
             accumulate_energy(acc, h, p_in, p_damp, 0.0)
             update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
                          col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+            e_plastic = 0.0
+            if has_members:
+                member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
+                e_plastic = plastic_energy_terms(u, g, members, plastic)
             if k % stride_h == 0:
                 status = write_output(k // stride_h, u, v_exact, a_abs, ku, agx, agy, mass, acc, pair_now,
-                                      out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit)  # fmt: skip
+                                      out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit,
+                                      e_plastic)  # fmt: skip
                 if status != STATUS_OK:
                     return status, k
-            if not (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params)):
+            if not (
+                (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params))
+                or (has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
+                                                                          members, plastic)))  # fmt: skip
+            ):
+                if has_members:
+                    for d in range(n_dof):
+                        u[d] -= u_static[d]
                 propagate(t, h, u, v_exact, phi, g0, g1, dof_start, dof_count, ground, ground_dt, xbuf, ybuf)
+                if has_members:
+                    for d in range(n_dof):
+                        u[d] += u_static[d]
                 counters[CNT_EXACT] += 1
                 continue
             # a contact may begin soon: hand the state to the CDM at t_k
@@ -144,18 +172,24 @@ def hybrid_advance(
                             peak_col, peak_rot, peak_disp, peak_acc,
                             out_u, out_v, out_a, out_ground, out_energy, out_contact,
                             r, dv, v, a_abs, z, cv_next, storey_work,
-                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf)  # fmt: skip
+                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+                            members, plastic, g, out_member, peak_member)  # fmt: skip
         counters[CNT_CDM] += sub
         if status != STATUS_OK:
             return status, k
         for d in range(n_dof):
             a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
-        if _all_apart(pair_state) and not contact_possible_within(
-            LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params
+        if (
+            _all_apart(pair_state)
+            and not (has_pairs and contact_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params))
+            and not (has_members and yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic))
         ):
+            if has_members:
+                plastic_correction(members, plastic, g)
+                solve_blocks(kinv, dof_start, dof_count, g, u_static)
             _leave_cdm((k + 1) * h, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
                        storey_k, storey_bottom, storey_top, binv, dof_start, dof_count, ground, ground_dt,
-                       acc, cv_next)  # fmt: skip
+                       acc, cv_next, g)  # fmt: skip
             mode[0] = MODE_EXACT
             counters[CNT_SWITCHES] += 1
     return STATUS_OK, k_stop
@@ -171,15 +205,15 @@ def _all_apart(pair_state):
 
 @kernel
 def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1, storey_k, bottom, top,
-               binv, dof_start, dof_count, ground, ground_dt, acc, cv):  # fmt: skip
+               binv, dof_start, dof_count, ground, ground_dt, acc, cv, g):  # fmt: skip
     """v_n = v_{n−½} + Δv_n/2 at t_n (no contact force), close the energy account up to t_n."""
     n_dof = mass.size
     agx, agy = ground_at(t, ground, ground_dt)
     storey_matvec(u, storey_k, bottom, top, ku)
     for d in range(0, n_dof, 3):
-        r[d] = -mass[d] * agx - ku[d] - cv_half[d]
-        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1]
-        r[d + 2] = -ku[d + 2] - cv_half[d + 2]
+        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d]
+        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1]
+        r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2]
     solve_blocks(binv, dof_start, dof_count, r, dv)
     for d in range(n_dof):
         v_exact[d] = v_half[d] + 0.5 * dv[d]

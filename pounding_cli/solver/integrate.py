@@ -13,6 +13,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
+from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .propagator import building_propagators
@@ -35,6 +36,21 @@ class StructureArrays(Protocol):
     storey_axes: np.ndarray
     column_storey: np.ndarray
     column_plan: np.ndarray
+    members: "MemberData"
+
+
+class MemberData(Protocol):
+    """Yielding members (see pounding_cli.assembly.system.MemberArrays)."""
+
+    bottom: np.ndarray
+    top: np.ndarray
+    arm_bottom: np.ndarray
+    arm_top: np.ndarray
+    axes: np.ndarray
+    k0: np.ndarray
+    kh: np.ndarray
+    fh: np.ndarray
+    coupled: np.ndarray
 
 
 class ContactData(Protocol):
@@ -72,6 +88,17 @@ class NoContact:
             setattr(self, f"pair_{name}", np.zeros(0))
 
 
+class NoMembers:
+    """No yielding members: the structure is linear."""
+
+    def __init__(self) -> None:
+        self.bottom = np.zeros(0, dtype=np.int64)
+        self.top = np.zeros(0, dtype=np.int64)
+        self.coupled = np.zeros(0, dtype=np.int64)
+        for name in ("arm_bottom", "arm_top", "axes", "k0", "kh", "fh"):
+            setattr(self, name, np.zeros((0, 2)))
+
+
 MAX_EVENTS = 200_000
 """Contact episodes logged at most; more are counted but not stored."""
 
@@ -104,6 +131,9 @@ class Response:
     cdm_steps: int = 0  # steps taken by the CDM
     switches: int = 0  # hybrid: hand-overs between the two
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
+    member_history: np.ndarray | None = None  # (n_out, n_members, 4) local δ_x, δ_y m, f_x, f_y N
+    peak_member: np.ndarray | None = None  # (n_members, 6) |δ_x|, |δ_y|, |δ| m, |f_x|, |f_y|, |f| N
+    residual_member: np.ndarray | None = None  # (n_members, 2) local deflection at rest after the run, m
 
 
 def ground_as_floor(structure: StructureArrays) -> np.ndarray:
@@ -240,6 +270,14 @@ def simulate(
     out_ground = np.full((n_out, 2), np.nan)
     out_energy = np.full((n_out, 7), np.nan)
     work = [np.zeros(n_dof + 3) for _ in range(6)] + [np.zeros((n_storeys, 3))]
+    mem = getattr(structure, "members", None) or NoMembers()
+    n_members = mem.top.size
+    member_bottom = np.where(mem.bottom < 0, n_dof // 3, mem.bottom).astype(np.int64)
+    members = (member_bottom, mem.top, mem.arm_bottom, mem.arm_top, mem.axes, mem.k0, mem.kh, mem.fh, mem.coupled)
+    plastic = np.zeros((n_members, 2))
+    g = np.zeros(n_dof + 3)
+    out_member = np.full((n_out if n_members else 0, n_members, 4), np.nan)
+    peak_member = np.zeros((n_members, 6))
     c = contact if contact is not None else NoContact()
     geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, bounding_boxes(c))
     params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
@@ -260,18 +298,21 @@ def simulate(
         structure.storey_axes, centre, structure.column_storey, col_arm,
         u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, out_contact, *work,
         geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+        members, plastic, g, out_member, peak_member,
     )  # fmt: skip
     counters = np.zeros(3, dtype=np.int64)
+    kinv = np.zeros((1, 1, 1))
     if substep > 0:
         if n_steps % substep or stride % substep:
             raise ValueError("n_steps and stride must be multiples of substep")
         h = substep * dt
-        phi, g0, g1 = building_propagators(
-            stiffness_blocks(structure), structure.mass, structure.dof_a0, structure.dof_a1, starts, counts, h
-        )
+        blocks = stiffness_blocks(structure)
+        phi, g0, g1 = building_propagators(blocks, structure.mass, structure.dof_a0, structure.dof_a1, starts, counts, h)
+        kinv = inverse_blocks(blocks, counts) if n_members else kinv
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
-                      np.zeros(2 * phi.shape[1]), np.zeros(2 * phi.shape[1]), np.zeros(1, dtype=np.int64), counters)  # fmt: skip
+                      np.zeros(2 * phi.shape[1]), np.zeros(2 * phi.shape[1]), np.zeros(1, dtype=np.int64), counters,
+                      kinv, np.zeros(n_dof + 3))  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
@@ -297,6 +338,7 @@ def simulate(
             t0 = time.perf_counter()
             status, done = advance(done, stop)
             wall += time.perf_counter() - t0
+            stop_if_requested()
             if progress is not None:
                 progress(min(done, total), total)
             if done > total:
@@ -309,7 +351,7 @@ def simulate(
     elif status == cdm.STATUS_DIVERGED:
         valid = _leading_good_rows(outs[0], out_energy)
         text = (
-            f"failed: diverged at t = {valid * stride * dt:.4g} s (a displacement exceeded "
+            f"failed: diverged at t = {done * dt:.4g} s (a displacement exceeded "
             f"{DIVERGENCE_LIMIT:g} m or became NaN or infinite); Δt = {dt:.3g} s may be too large"
         )
     elif status == cdm.STATUS_ENERGY:
@@ -348,7 +390,36 @@ def simulate(
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
         failure_dof=_failure_dof(u[:n_dof], v_half[:n_dof]) if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
+        member_history=out_member[cut] if n_members else None,
+        peak_member=peak_member if n_members else None,
+        residual_member=residual_deflections(structure, plastic, members) if n_members else None,
     )
+
+
+def inverse_blocks(blocks: list[np.ndarray], counts: np.ndarray) -> np.ndarray:
+    """K⁻¹ of every building, padded to (n_b, n_max, n_max)."""
+    n_max = int(counts.max())
+    out = np.zeros((len(blocks), n_max, n_max))
+    for b, k in enumerate(blocks):
+        out[b, : k.shape[0], : k.shape[0]] = np.linalg.inv(k)
+    return out
+
+
+def residual_deflections(structure: StructureArrays, plastic: np.ndarray, members: tuple) -> np.ndarray:
+    """(n_members, 2) local deflections of the members once the motion has died away
+    elastically from the final state: at u = K⁻¹·g, where the springs balance the plastic
+    deflections (the residual deflection of a yielded structure), m."""
+    from .hysteresis import member_deflection, plastic_correction
+
+    n_dof = structure.mass.size
+    g = np.zeros(n_dof + 3)
+    plastic_correction(members, plastic, g)
+    u = np.zeros(n_dof + 3)
+    starts, counts = building_dofs(structure)
+    for (d0, n), k in zip(zip(starts, counts), stiffness_blocks(structure)):
+        u[d0 : d0 + n] = np.linalg.solve(k, g[d0 : d0 + n])
+    bottom, top, arm_b, arm_t, axes = members[:5]
+    return np.array([member_deflection(m, u, bottom, top, arm_b, arm_t, axes) for m in range(top.size)]).reshape(-1, 2)
 
 
 def _failure_dof(u: np.ndarray, v: np.ndarray) -> int:

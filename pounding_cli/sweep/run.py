@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from ..errors import InputError
+from ..interrupts import stop_if_requested
 from ..model.sweep import LoadedSweep, load_sweep
 from .plan import Plan, plan_sweep
 from .pool import LocalPool
@@ -118,7 +119,7 @@ def run_sweep(
             manifest = plan.manifest()
             folder.write_manifest(manifest)
             outcome = SweepOutcome(folder.root, [], selected=selected)
-            from ..api import terminate_as_interrupt
+            from ..interrupts import terminate_as_interrupt
 
             try:
                 with terminate_as_interrupt():  # a batch system's SIGTERM stops it like Ctrl-C
@@ -166,6 +167,7 @@ def _run(
     if on_progress is not None:
         on_progress("run", 0, 0, len(tasks))
     for finished, (h, ok, value) in enumerate(executor.run(tasks), start=1):
+        stop_if_requested()
         outcome.ran += 1
         if not ok:  # the worker died, or the cluster gave up on the task
             write_failure(folder.failure_file(h), plan.cases[by_hash[h][0]].input_sha256, f"failed: {value}")
