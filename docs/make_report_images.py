@@ -8,7 +8,11 @@ inputs/paper_wide_gap.toml (0.5 m apart: none) into a temporary folder, and a sw
 pounding example (:data:`SWEEP`: the angle of incidence from 0° to 360° in 10° steps, and the
 paper's section 6.1 cases with and without pounding), then draws every plot of ``pound
 report`` through the Python API into docs/images/ (report-*.png, the animation
-report-plan.gif, report-sweep-*.png). Nothing is edited by hand. About a minute on 2 cores.
+report-plan.gif, report-sweep-*.png). For the yielding members it also runs
+inputs/isolated_moat.toml (a base-isolated building on nine lead-rubber bearings, its moat
+wall 10 cm away) and inputs/paper_inelastic.toml (every column yields) and draws their
+hysteresis loops (report-loops-isolators.png, report-loops-columns.png). Nothing is edited by
+hand. About two minutes on 2 cores.
 """
 
 from __future__ import annotations
@@ -85,6 +89,25 @@ def run_images(runs: dict) -> list[Path]:
     return [*written, gif]
 
 
+def yielding_images(folder: Path) -> list[Path]:
+    """The hysteresis loops of the isolators of isolated_moat.toml and of the most ductile
+    column of each storey of paper_inelastic.toml's left building."""
+    import pounding_cli as pound
+    from pounding_cli.report import open_run
+    from pounding_cli.report.loops import loop_figure
+    from pounding_cli.report.style import save_as
+
+    figures = {}
+    for stem, model, building in (("report-loops-isolators", "isolated_moat.toml", "isolated"),
+                                  ("report-loops-columns", "paper_inelastic.toml", "left")):  # fmt: skip
+        path = folder / f"{model.removesuffix('.toml')}.h5"
+        result = pound.run_model(INPUTS / model, output=path)
+        if not result.complete:
+            sys.exit(f"{model}: {result.status}")
+        figures[stem] = loop_figure(open_run(path), building)
+    return [save_as(fig, IMAGES, stem, "png") for stem, fig in figures.items()]
+
+
 def sweep_images(folder: Path) -> list[Path]:
     """Run :data:`SWEEP` and draw figure 8 (lines and polar) and the bars of the named cases."""
     from pounding_cli.report.style import save_as
@@ -112,7 +135,7 @@ def main() -> None:
     IMAGES.mkdir(exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         runs = run_examples(Path(tmp))
-        written = run_images(runs) + sweep_images(Path(tmp))
+        written = run_images(runs) + yielding_images(Path(tmp)) + sweep_images(Path(tmp))
     for path in written:
         print(f"wrote {path.relative_to(ROOT)} ({path.stat().st_size / 1e3:.0f} kB)")
 

@@ -13,8 +13,8 @@ Modules, one job each:
   :mod:`.tables` turns it into tables (rich for the terminal, HTML for the report file);
 - :mod:`.geometry` rebuilds the slab outlines from the model stored in the file;
 - one module per plot, each returning a :class:`matplotlib.figure.Figure`: :mod:`.ground`,
-  :mod:`.histories`, :mod:`.profiles`, :mod:`.impacts`, :mod:`.energy`, :mod:`.plan`
-  (:mod:`.style` holds what they share); :mod:`.animate` writes the plan-view animation;
+  :mod:`.histories`, :mod:`.profiles`, :mod:`.impacts`, :mod:`.energy`, :mod:`.plan`,
+  :mod:`.loops` (:mod:`.style` holds what they share); :mod:`.animate` writes the plan-view animation;
 - :mod:`.plots` writes every plot into a folder, :mod:`.html` the self-contained HTML report.
 
 Names are imported on first use: ``pound report --json`` never loads matplotlib.
@@ -39,6 +39,7 @@ _EXPORTS = {
     "impact_figure": "impacts",
     "energy_figure": "energy",
     "plan_figure": "plan",
+    "loop_figure": "loops",
     "animate_plan": "animate",
     "write_plots": "plots",
     "write_html": "html",

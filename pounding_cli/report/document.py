@@ -2,8 +2,9 @@
 
 :func:`summary` is the Python API behind ``pound report out.h5 --json``: the model and
 record, the integrator and run time, each building's periods and peak interstorey
-deflections (per column and storey, as stored), the impact log and its pairs, and the energy
-balance. Every number is the HDF5 dataset's value, unconverted (SI units: m, rad, s, N, J);
+deflections (per column and storey, as stored), its yielding members (inelastic columns and
+isolators: peak ductility, peak deflection and force, residual deflection), the impact log and
+its pairs, and the energy balance. Every number is the HDF5 dataset's value, unconverted (SI units: m, rad, s, N, J);
 NaN (a column line absent from a storey, an impact lasting to the end) is null. The
 classes below define the document; ``schemas/report.schema.json`` is written from them by
 ``pound schema``.
@@ -72,6 +73,82 @@ class ColumnReport(_Output):
     row of /buildings/<name>/peaks/interstorey_deflection; null where the column is absent."""
 
 
+class MemberReport(_Output):
+    """One yielding member (an inelastic column in one storey, or an isolator): a row of
+    /buildings/<name>/yielding/members with its peaks, ductility and residual deflection.
+    Deflections and forces are along the member's local axes."""
+
+    name: str
+    """Member name: the column line (C9; one member per storey) or the isolator (I1)."""
+    kind: str
+    """"column" or "isolator"."""
+    storey: int
+    """Storey, 1-based (storey 1 of an isolated building is the isolation storey)."""
+    X_m: float
+    """Plan position, global X, m."""
+    Y_m: float
+    """Plan position, global Y, m."""
+    yield_force_N: list[float]
+    """Yield force along local x, y, N."""
+    yield_deflection_m: list[float]
+    """Yield deflection F_y/k along local x, y, m."""
+    peak_deflection_m: list[float]
+    """Peak |δ_x|, |δ_y| and resultant |δ| over every step, m (the row of yielding/peak)."""
+    peak_force_N: list[float]
+    """Peak |f_x|, |f_y| and resultant |f| over every step, N (the row of yielding/peak)."""
+    ductility: list[float]
+    """Peak ductility |δ|/δ_y along local x, y (below 1: stayed elastic along that axis)."""
+    residual_deflection_m: list[float]
+    """Residual deflection δ_x, δ_y at rest after the run, m (signed)."""
+    residual_m: float
+    """Resultant residual deflection √(δ_x² + δ_y²), m."""
+
+
+class StoreyDuctility(_Output):
+    """The largest peak ductility of one storey's inelastic columns, per local axis."""
+
+    storey: int
+    """Storey number, 1-based."""
+    columns: int
+    """Inelastic columns in the storey."""
+    yielded: int
+    """Of them, the columns whose peak ductility exceeds 1 along some axis."""
+    ductility_x: float
+    """Largest peak ductility along local x."""
+    x_column: str
+    """The column where ductility_x occurs."""
+    ductility_y: float
+    """Largest peak ductility along local y."""
+    y_column: str
+    """The column where ductility_y occurs."""
+    residual_m: float
+    """Largest resultant residual deflection of the storey's columns, m."""
+    residual_column: str
+    """The column where residual_m occurs."""
+
+
+class YieldingReport(_Output):
+    """A building's yielding members: inelastic columns and isolators."""
+
+    columns: int
+    """Inelastic column members (one per column line and storey)."""
+    isolators: int
+    """Isolators (0 unless the building is base-isolated)."""
+    max_ductility: float | None
+    """Largest peak ductility over the inelastic columns, either axis; null without any."""
+    max_ductility_member: MemberReport | None
+    """The column member where max_ductility occurs; null without inelastic columns."""
+    storey_ductility: list[StoreyDuctility]
+    """Per storey with inelastic columns, its largest ductilities and residual deflection."""
+    peak_isolator_displacement_m: float | None
+    """Largest peak resultant isolator displacement, m; null without isolators."""
+    peak_isolator_force_N: float | None
+    """Largest peak resultant isolator force, N; null without isolators."""
+    members: list[MemberReport]
+    """Every yielding member in the file's order; with --column, the columns of that line
+    and every isolator ("C9"), or none in another building than the one named ("left:C9")."""
+
+
 class BuildingReport(_Output):
     """One building: size, modes and peak responses."""
 
@@ -101,6 +178,10 @@ class BuildingReport(_Output):
     """Per floor: peak |u_x| m, |u_y| m, |θ_z| rad, global axes, relative to the ground."""
     peak_acceleration: list[list[float]]
     """Per floor: peak absolute |a_x| m/s², |a_y| m/s², |α_z| rad/s², global axes."""
+    isolated: bool
+    """Whether the building is base-isolated: floor 1 is its base slab, storey 1 the isolation storey."""
+    yielding: YieldingReport | None
+    """Inelastic columns and isolators (/buildings/<name>/yielding); null if it has none."""
 
 
 class ImpactEvent(_Output):
@@ -418,6 +499,72 @@ def _building(b: Any, column: str | None) -> BuildingReport:
         columns=columns,
         peak_displacement=b.peak_displacement.tolist(),
         peak_acceleration=b.peak_acceleration.tolist(),
+        isolated=bool(b.isolated),
+        yielding=_yielding(b, column),
+    )
+
+
+def members_of(b: Any, column: str | None, kind: str | None = None) -> list[int]:
+    """Indices of building `b`'s yielding members of `kind` ("column", "isolator" or both when
+    None); `column` keeps only the inelastic columns of that line and the isolators ("C9"), or
+    in building "left" only ("left:C9": no member of another building)."""
+    y = b.yielding
+    if y is None:
+        return []
+    out = []
+    building, _, name = (column or "").rpartition(":")
+    if building and building != b.name:
+        return []
+    for i, m in enumerate(y.members):
+        if kind is not None and m["kind"] != kind:
+            continue
+        if column is not None and m["kind"] == "column" and m["name"] != name:
+            continue
+        out.append(i)
+    return out
+
+
+def _member(y: Any, i: int) -> MemberReport:
+    m = y.members[i]
+    residual = y.residual_deflection[i]
+    return MemberReport(
+        name=str(m["name"]), kind=str(m["kind"]), storey=int(m["storey"]), X_m=float(m["X"]), Y_m=float(m["Y"]),
+        yield_force_N=m["yield_force"].tolist(), yield_deflection_m=y.yield_deflection[i].tolist(),
+        peak_deflection_m=y.peak[i, :3].tolist(), peak_force_N=y.peak[i, 3:].tolist(),
+        ductility=y.ductility[i].tolist(), residual_deflection_m=residual.tolist(),
+        residual_m=float(np.hypot(residual[0], residual[1])),
+    )  # fmt: skip
+
+
+def _yielding(b: Any, column: str | None) -> YieldingReport | None:
+    y = b.yielding
+    if y is None or y.members.size == 0:
+        return None
+    kinds = y.members["kind"]
+    cols = np.flatnonzero(kinds == "column")
+    isos = np.flatnonzero(kinds == "isolator")
+    mu = y.ductility
+    residual = np.hypot(y.residual_deflection[:, 0], y.residual_deflection[:, 1])
+    worst = int(cols[np.argmax(mu[cols].max(axis=1))]) if cols.size else None
+    storeys = []
+    for s in sorted({int(v) for v in y.members["storey"][cols]}):
+        here = cols[y.members["storey"][cols] == s]
+        ix, iy, ir = (int(here[np.argmax(v[here])]) for v in (mu[:, 0], mu[:, 1], residual))
+        storeys.append(StoreyDuctility(
+            storey=s, columns=int(here.size), yielded=int((mu[here].max(axis=1) > 1).sum()),
+            ductility_x=float(mu[ix, 0]), x_column=str(y.members["name"][ix]),
+            ductility_y=float(mu[iy, 1]), y_column=str(y.members["name"][iy]),
+            residual_m=float(residual[ir]), residual_column=str(y.members["name"][ir]),
+        ))  # fmt: skip
+    return YieldingReport(
+        columns=int(cols.size),
+        isolators=int(isos.size),
+        max_ductility=float(mu[worst].max()) if worst is not None else None,
+        max_ductility_member=_member(y, worst) if worst is not None else None,
+        storey_ductility=storeys,
+        peak_isolator_displacement_m=float(y.peak[isos, 2].max()) if isos.size else None,
+        peak_isolator_force_N=float(y.peak[isos, 5].max()) if isos.size else None,
+        members=[_member(y, i) for i in members_of(b, column)],
     )
 
 

@@ -75,6 +75,8 @@ CAPTIONS = {
     "impacts": "Impact force and overlap area: histories at the output interval and each episode's peak from the log.",
     "energy": "Energy balance: the energies stacked under the input energy, and the balance error.",
     "plan": "Plan view of every level at the instant of peak impact force.",
+    "loops": "Hysteresis loops of the yielding members (isolators, the most ductile or the chosen columns): "
+             "force against deflection along each member's local axes, the yield forces dashed.",
 }
 
 

@@ -1,7 +1,8 @@
 """Every plot of a report, drawn and written into a folder (``pound report --plots DIR``).
 
 One run: ``ground``, ``displacement``, ``profiles``, ``impacts``, ``energy`` and ``plan``
-(.png, .svg or .pdf). Several runs: each run's plots prefixed with its label
+(.png, .svg or .pdf), and ``<building>-loops`` for each building with yielding members
+(inelastic columns, isolators) to draw. Several runs: each run's plots prefixed with its label
 (``<label>-ground.png``, ...) and one ``profiles`` figure comparing them all.
 """
 
@@ -16,6 +17,7 @@ from .ground import ground_figure
 from .histories import Floor, displacement_figure
 from .impacts import impact_figure
 from .load import Run
+from .loops import loop_buildings, loop_figure, loop_members
 from .plan import plan_figure
 from .profiles import profile_figure
 from .style import FORMATS, save_as
@@ -29,7 +31,7 @@ def run_figures(
 ) -> dict[str, Callable[[], Figure]]:
     """Name → a function drawing that figure, for one run (drawn one at a time, so that a
     long report does not hold every figure in memory)."""
-    return {
+    out: dict[str, Callable[[], Figure]] = {
         "ground": lambda: ground_figure(run),
         "displacement": lambda: displacement_figure(run, floors),
         "profiles": lambda: profile_figure([run], column),
@@ -37,6 +39,10 @@ def run_figures(
         "energy": lambda: energy_figure(run),
         "plan": lambda: plan_figure(run, magnify),
     }
+    for name in loop_buildings(run):
+        if loop_members(run.result.buildings[name], column):
+            out[f"{name.replace('/', '-')}-loops"] = lambda name=name: loop_figure(run, name, column)
+    return out
 
 
 def all_figures(

@@ -142,7 +142,8 @@ def _cell(value: Any, scale: float = 1.0, digits: int = 4) -> str:
 def sweep_tables(doc: dict[str, Any], column: str | None = None) -> list[TableSpec]:
     """The sweep table (title, files, counts) and the cases table: parameters, impacts, peak
     force, and per building the largest peak interstorey deflections — or, with `column`
-    ("left:C9"), that column's largest over the storeys."""
+    ("left:C9"), that column's largest over the storeys — and, for buildings with yielding
+    members, the largest column ductility and the largest isolator displacement."""
     n = doc["counts"]
     about = TableSpec("Sweep", ["", ""], [
         ["title", doc["title"] or "-"], ["folder", doc["folder"]], ["sweep file", doc["sweep_file"]],
@@ -156,17 +157,32 @@ def sweep_tables(doc: dict[str, Any], column: str | None = None) -> list[TableSp
                "impacts", "peak F_N (kN)"]  # fmt: skip
     for label, _ in groups:
         headers += [f"{label} Δx (mm)", f"{label} Δy (mm)", f"{label} Δθ (mrad)"]
+    yielding = _yielding_columns(doc)
+    headers += [label for label, _, _ in yielding]
     rows = []
     for r in doc["rows"]:
         row = ([r["study"]] if headers[0] == "study" else []) + [_short(r["case"]), _short(r["status"])]
         row += [_cell(r[p]) for p in params] + [_cell(r["impacts"]), _cell(r["peak_impact_force_N"], 1e-3, 5)]
         for _, names in groups:
             row += [_cell(_largest(r, names[k]), 1e3) for k in range(3)]
+        row += [_cell(r[name], scale) for _, name, scale in yielding]
         rows.append(row)
-    first = len(headers) - 3 * len(groups) - 2 - len(params)
+    first = len(headers) - len(yielding) - 3 * len(groups) - 2 - len(params)
     cases = TableSpec("Cases (peak interstorey deflections: building axes)", headers, rows,
                       right=set(range(first, len(headers))))  # fmt: skip
     return [about, cases]
+
+
+def _yielding_columns(doc: dict[str, Any]) -> list[tuple[str, str, float]]:
+    """(header, summary column, factor) of the yielding-member columns of the summary."""
+    out = []
+    for c in doc["columns"]:
+        name = c["name"]
+        if name.startswith("max_ductility["):
+            out.append((f"{name[len('max_ductility['):-1]} μ max", name, 1.0))
+        elif name.startswith("peak_isolator_displacement_m["):
+            out.append((f"{name[len('peak_isolator_displacement_m['):-1]} isolator |δ| (mm)", name, 1e3))
+    return out
 
 
 def _short(status: str) -> str:

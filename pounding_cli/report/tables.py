@@ -119,6 +119,67 @@ def deflection_tables(doc: dict[str, Any]) -> list[TableSpec]:
     return out
 
 
+WORST = 6
+"""Rows of the table of most ductile columns (a building may have hundreds of members)."""
+
+
+def _mm(value: float, digits: int = 3) -> str:
+    """Metres as mm; below 0.5 µm (round-off of a member that stayed elastic) as 0."""
+    return "0" if abs(value) < 5e-7 else f"{1e3 * value:.{digits}g}"
+
+
+def _pair(values: list[float], scale: float = 1.0, digits: int = 3) -> str:
+    if scale == 1e3:
+        return " / ".join(_mm(v, digits) for v in values)
+    return " / ".join(f"{scale * v:.{digits}g}" for v in values)
+
+
+def _member_row(m: dict[str, Any]) -> list[str]:
+    return [m["name"], str(m["storey"]), f"{m['ductility'][0]:.3g}", f"{m['ductility'][1]:.3g}",
+            _pair(m["peak_deflection_m"][:2], 1e3), _pair(m["residual_deflection_m"], 1e3),
+            _mm(m["residual_m"])]  # fmt: skip
+
+
+MEMBER_HEADERS = ["column", "storey", "μx", "μy", "peak δx / δy (mm)", "residual δx / δy (mm)", "residual |δ| (mm)"]
+
+
+def yielding_tables(doc: dict[str, Any]) -> list[TableSpec]:
+    """Per building with yielding members: its inelastic columns — the largest peak ductility
+    per storey and the most ductile members, or with --column that column line's members in
+    every storey — and its isolators, each with its peak resultant displacement and force and
+    its residual displacement. Ductility μ = peak |δ| / δ_y along the member's local axes."""
+    out = []
+    for b in doc["buildings"]:
+        y = b["yielding"]
+        if not y:
+            continue
+        columns = [m for m in y["members"] if m["kind"] == "column"]
+        if y["columns"] and not doc["column"]:
+            rows = [[str(s["storey"]), f"{s['yielded']} of {s['columns']}", f"{s['ductility_x']:.3g}", s["x_column"],
+                     f"{s['ductility_y']:.3g}", s["y_column"], _mm(s["residual_m"]), s["residual_column"]]
+                    for s in y["storey_ductility"]]  # fmt: skip
+            out.append(TableSpec(f"Inelastic columns: {b['name']}, largest peak ductility per storey (member local axes)",
+                                 ["storey", "yielded", "μx", "column", "μy", "column", "residual |δ| (mm)", "column"],
+                                 rows, right={0, 1, 2, 4, 6}))  # fmt: skip
+            worst = sorted(columns, key=lambda m: -max(m["ductility"]))[:WORST]
+            what = f"the {len(worst)} most ductile of {len(columns)}" if len(worst) < len(columns) else "all, most ductile first"
+            out.append(TableSpec(f"Inelastic columns: {b['name']}, {what}", MEMBER_HEADERS,
+                                 [_member_row(m) for m in worst], right=set(range(1, 7))))  # fmt: skip
+        elif columns:
+            out.append(TableSpec(f"Inelastic columns: {b['name']}, column {doc['column']} (member local axes)",
+                                 MEMBER_HEADERS, [_member_row(m) for m in columns], right=set(range(1, 7))))  # fmt: skip
+        isolators = [m for m in y["members"] if m["kind"] == "isolator"]
+        if isolators:
+            rows = [[m["name"], f"{1e3 * m['peak_deflection_m'][2]:.4g}", f"{m['peak_force_N'][2] / 1e3:.4g}",
+                     _pair(m["yield_force_N"], 1e-3), f"{max(m['ductility']):.3g}",
+                     _pair(m["residual_deflection_m"], 1e3), _mm(m["residual_m"])]
+                    for m in isolators]  # fmt: skip
+            out.append(TableSpec(f"Isolators: {b['name']} (storey 1, the isolation storey)",
+                                 ["isolator", "peak |δ| (mm)", "peak |f| (kN)", "F_y x / y (kN)", "μ",
+                                  "residual δx / δy (mm)", "residual |δ| (mm)"], rows, right=set(range(1, 7))))  # fmt: skip
+    return out
+
+
 def impacts_table(doc: dict[str, Any]) -> TableSpec | None:
     """Per contact candidate pair: impacts, peak normal force and its time, total impulse."""
     pairs = doc["impacts"]["pairs"]
@@ -144,7 +205,7 @@ def energy_table(doc: dict[str, Any]) -> TableSpec:
 
 def run_tables(doc: dict[str, Any]) -> list[TableSpec]:
     """Every table of a run's report, in order."""
-    tables = [run_table(doc), buildings_table(doc), peaks_table(doc), *deflection_tables(doc)]
+    tables = [run_table(doc), buildings_table(doc), peaks_table(doc), *deflection_tables(doc), *yielding_tables(doc)]
     impacts = impacts_table(doc)
     if impacts is not None:
         tables.append(impacts)

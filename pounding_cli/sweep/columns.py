@@ -8,6 +8,10 @@ A summary has one row per case and these columns, in this order (docs/sweep.md, 
 - ``impacts``, ``peak_impact_force_N``, ``energy_balance_error``;
 - per building B: ``peak_isd_x_m[B]``, ``peak_isd_y_m[B]``, ``peak_isd_theta_rad[B]``, the
   largest peak interstorey deflection over its columns and storeys, per direction;
+- per building B with yielding members (in some case): ``max_ductility[B]``, the largest peak
+  ductility over its inelastic columns, either local axis (only if it has inelastic columns),
+  and ``peak_isolator_displacement_m[B]``, the largest peak resultant displacement of its
+  isolators (only if it is base-isolated); NaN/null in a case where it has none;
 - per column C of building B named in ``[summary] columns``, per storey s (1 = ground
   storey): ``peak_isd_x_m[B/C/s]``, ``peak_isd_y_m[B/C/s]``, ``peak_isd_theta_rad[B/C/s]``.
   Names cannot hold brackets or slashes, so these names are unambiguous;
@@ -54,7 +58,8 @@ RESULT_COLUMNS = [
     Column("impacts", "result", "int", "-", "Number of contact episodes (impacts) in the run."),
     Column("peak_impact_force_N", "result", "float", "N", "Largest normal impact force of the run (0 without impacts)."),
     Column("energy_balance_error", "result", "float", "-",
-           "max |E_input − (E_kinetic + E_strain + E_damping + E_contact)| / max E_input over the run."),  # fmt: skip
+           "max |E_input − (E_kinetic + E_strain + E_damping + E_hysteretic + E_contact)| / max E_input "
+           "over the run."),  # fmt: skip
 ]
 TIME_COLUMNS = [
     Column("solver_time_s", "result", "float", "s", "Wall time of the time loop (diagnostics wall_time_s)."),
@@ -71,6 +76,21 @@ def building_columns(building: str) -> list[Column]:
                f"Largest peak interstorey deflection {meaning} over all columns and storeys of building {building}.")
         for suffix, unit, meaning in DIRECTIONS
     ]  # fmt: skip
+
+
+def yielding_columns(building: str, columns: bool, isolated: bool) -> list[Column]:
+    """The yielding-member columns of one building: with inelastic `columns`, its largest peak
+    ductility; if `isolated`, its largest peak isolator displacement."""
+    out = []
+    if columns:
+        out.append(Column(f"max_ductility[{building}]", "result", "float", "-",
+                          f"Largest peak ductility |δ|/δ_y over the inelastic columns of building {building} and "
+                          "both their local axes (below 1: none yielded; NaN in a case where it has none)."))  # fmt: skip
+    if isolated:
+        out.append(Column(f"peak_isolator_displacement_m[{building}]", "result", "float", "m",
+                          f"Largest peak resultant isolator displacement of building {building} "
+                          "(NaN in a case where it is not isolated)."))  # fmt: skip
+    return out
 
 
 def storey_columns(building: str, column: str, storeys: int) -> list[Column]:
@@ -122,6 +142,14 @@ def row_schema() -> dict[str, Any]:
             f"Peak interstorey deflection {meaning} of [building/column/storey], {unit}."}
         for suffix, unit, meaning in DIRECTIONS
     }  # fmt: skip
+    yielding = {
+        "^max_ductility\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
+            "Largest peak ductility over the inelastic columns of the building named in brackets, either local "
+            "axis; null where it has none."},
+        "^peak_isolator_displacement_m\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
+            "Largest peak resultant isolator displacement of the building named in brackets, m; null where it "
+            "is not isolated."},
+    }  # fmt: skip
     return {
         "title": "One row of a pound sweep summary",
         "description": "One case of a sweep: summary.csv and the /cases table of summary.h5 have one column per "
@@ -130,6 +158,6 @@ def row_schema() -> dict[str, Any]:
         "type": "object",
         "required": [c.name for c in CASE_COLUMNS + RESULT_COLUMNS + TIME_COLUMNS],
         "properties": props,
-        "patternProperties": deflection,
+        "patternProperties": deflection | yielding,
         "additionalProperties": True,
     }

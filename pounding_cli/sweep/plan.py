@@ -24,7 +24,16 @@ from .. import __version__
 from ..errors import InputError, PoundError
 from ..model import LoadedModel, read_document, validate_model
 from ..model.sweep import LoadedSweep, load_sweep, parse_path
-from .columns import CASE_COLUMNS, RESULT_COLUMNS, TIME_COLUMNS, Column, building_columns, parameter_column, storey_columns
+from .columns import (
+    CASE_COLUMNS,
+    RESULT_COLUMNS,
+    TIME_COLUMNS,
+    Column,
+    building_columns,
+    parameter_column,
+    storey_columns,
+    yielding_columns,
+)
 from .document import CaseDocument, CaseProblem, case_document, describe_problem, gather
 from .expand import CaseSpec, expand
 from .paths import PathError, select
@@ -44,6 +53,7 @@ class PlannedCase:
     values: dict[str, Any]  # swept path → the value the case's model resolved to
     storeys: dict[str, int]  # building → number of storeys
     input_sha256: str = ""
+    yielding: dict[str, tuple[bool, bool]] = field(default_factory=dict)  # building → (inelastic columns, isolated)
 
     @property
     def hash(self) -> str:
@@ -58,6 +68,7 @@ class Plan:
     cases: list[PlannedCase]
     parameter_paths: list[str]
     buildings: dict[str, int] = field(default_factory=dict)  # building → most storeys over the cases
+    yielding: dict[str, tuple[bool, bool]] = field(default_factory=dict)  # building → (inelastic columns, isolated) in some case
 
     @property
     def base(self) -> Path:
@@ -74,7 +85,8 @@ class Plan:
         """The summary's columns (docs/sweep.md, "Summary")."""
         params = [parameter_column(p, [c.values.get(p) for c in self.cases]) for p in self.parameter_paths]
         named = self.sweep.sweep.summary.columns
-        per_building = [c for b in self.buildings for c in building_columns(b)]
+        per_building = [c for b in self.buildings
+                        for c in building_columns(b) + yielding_columns(b, *self.yielding.get(b, (False, False)))]  # fmt: skip
         per_storey = [c for b, cols in named.items() for col in cols for c in storey_columns(b, col, self.buildings.get(b, 0))]
         return CASE_COLUMNS + params + RESULT_COLUMNS + per_building + per_storey + TIME_COLUMNS
 
@@ -110,10 +122,14 @@ def plan_sweep(
     documents, cases = _documents(loaded, specs, paths)
     _check(loaded, documents, cases, run_tasks, on_progress)
     buildings: dict[str, int] = {}
+    yielding: dict[str, tuple[bool, bool]] = {}
     for case in cases:
         for name, n in case.storeys.items():
             buildings[name] = max(buildings.get(name, 0), n)
-    return Plan(loaded, cases, paths, buildings)
+        for name, (columns, isolated) in case.yielding.items():
+            before = yielding.get(name, (False, False))
+            yielding[name] = (before[0] or columns, before[1] or isolated)
+    return Plan(loaded, cases, paths, buildings, yielding)
 
 
 def _documents(loaded: LoadedSweep, specs: list[CaseSpec], paths: list[str]) -> tuple[list[CaseDocument], list[PlannedCase]]:
@@ -144,8 +160,14 @@ def _documents(loaded: LoadedSweep, specs: list[CaseSpec], paths: list[str]) -> 
 def _case(doc: CaseDocument, model: LoadedModel, paths: list[str]) -> PlannedCase:
     dump = model.model.model_dump(mode="json")
     values = {path: _resolved(dump, path, doc.spec.parameters.get(path)) for path in paths}
-    storeys = {b.name: len(b.storeys()) for b in model.model.buildings}
-    return PlannedCase(doc.spec, doc.document, values, storeys)
+    # an isolated building's storey 1 is its isolation storey, below the floors of the model
+    storeys = {b.name: len(b.storeys()) + (b.isolation is not None) for b in model.model.buildings}
+    yielding = {
+        b.name: (any(c.hysteresis is not None for floor in b.storeys() for c in floor.all_columns()),
+                 b.isolation is not None)
+        for b in model.model.buildings
+    }  # fmt: skip
+    return PlannedCase(doc.spec, doc.document, values, storeys, yielding=yielding)
 
 
 def _resolved(dump: dict[str, Any], path: str, assigned: Any) -> Any:

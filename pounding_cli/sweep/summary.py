@@ -53,6 +53,14 @@ def case_results(path: Path) -> dict[str, Any]:
                 for c, column in enumerate(names):
                     for s in range(values.shape[1]):
                         out[f"peak_isd_{suffix}[{name}/{column}/{s + 1}]"] = float(values[c, s])
+            if "yielding" in group:
+                kinds = [k.decode() if isinstance(k, bytes) else str(k) for k in group["yielding/members"]["kind"]]
+                columns = np.array([k == "column" for k in kinds], dtype=bool)
+                isolators = np.array([k == "isolator" for k in kinds], dtype=bool)
+                if columns.any():
+                    out[f"max_ductility[{name}]"] = _nanmax(group["yielding/ductility"][()][columns])
+                if isolators.any():
+                    out[f"peak_isolator_displacement_m[{name}]"] = _nanmax(group["yielding/peak"][()][isolators, 2])
     return out
 
 
