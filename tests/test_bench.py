@@ -75,6 +75,54 @@ def test_every_scene_validates():
     from pounding_cli.model import load_model
 
     names = [p.stem for p in scene_files()]
-    assert names == ["corner", "linear", "paper_pounding", "row_of_5", "stiff_contact"]
+    assert names == ["corner", "inelastic", "isolated", "linear", "paper_pounding", "row_of_5", "stiff_contact"]
     for path in scene_files():
         load_model(path)
+
+
+def test_yielding_scenes_have_members_and_their_error(tmp_path):
+    """The inelastic and isolated scenes load with their yielding members, and the bench
+    compares the members' peaks (a cheap check: the first 4.5 s, by which the bearings and
+    the left building's columns have yielded, a coarse reference, one setting)."""
+    from pounding_cli.api import prepare, execute
+    from pounding_cli.bench.metrics import compare
+    from pounding_cli.bench.run import SETTINGS, with_setting
+
+    paths = {p.stem: p for p in scene_files()}
+    default = next(s for s in SETTINGS if s.default)
+    reports = bench([paths["isolated"], paths["inelastic"]], (default,), repeats=1, reference_divisor=1, duration=4.5)
+    for report, members in zip(reports, (9, 81)):
+        assert report.convergence.members == members, report.scene
+        e = report.rows[0].errors
+        assert e.members == members
+        assert 0.0 < e.member_deflection < 1e-2 and 0.0 <= e.ductility < 1e-2, (report.scene, e)
+    rows = table_rows(reports)
+    assert [r["yielding_members"] for r in rows] == [9, 81]
+    assert all(r["member_deflection_error"] > 0 for r in rows)
+    text = markdown(reports)
+    assert "| member deflection error | ductility error |" in text and "yielding members' peak deflections" in text
+    write_hdf5(reports, tmp_path / "bench.h5")
+    with h5py.File(tmp_path / "bench.h5") as f:
+        table = f["bench"][()]
+        assert list(table["yielding_members"]) == [9, 81]
+        assert (table["member_deflection_error"] > 0).all()
+    fig = plot(reports, tmp_path / "bench.png")
+    axes = [a for a in fig.axes if a.get_visible()]
+    assert [len(a.get_lines()) for a in axes] == [3, 3]  # hybrid deflection, hybrid member |δ|, the star
+    # the members' peaks really yielded, and a run compared with itself has no error
+    scene = with_setting(prepare(paths["isolated"]), default, 4.5)
+    run = execute(scene)
+    assert run.buildings["isolated"].yielding.ductility.max() > 1.0
+    same = compare(run, run)
+    assert same.members == 9 and same.member_deflection == 0.0 and same.ductility == 0.0
+
+
+def test_member_errors_are_zero_without_members():
+    from pounding_cli.api import prepare, execute
+    from pounding_cli.bench.metrics import compare
+    from pounding_cli.bench.run import SETTINGS, with_setting
+
+    path = next(p for p in scene_files() if p.stem == "linear")
+    run = execute(with_setting(prepare(path), next(s for s in SETTINGS if s.default), 1.0))
+    e = compare(run, run)
+    assert (e.members, e.member_deflection, e.ductility) == (0, 0.0, 0.0)

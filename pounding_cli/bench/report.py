@@ -32,32 +32,44 @@ def table_rows(reports: list[SceneReport]) -> list[dict]:
                     "peak_force_error": e.peak_force,
                     "impact_count_difference": e.impact_count,
                     "energy_balance_error": e.energy_balance,
+                    "yielding_members": e.members,
+                    "member_deflection_error": e.member_deflection,
+                    "ductility_error": e.ductility,
                 }
             )
     return out
 
 
 def markdown(reports: list[SceneReport]) -> str:
-    """The table as Markdown, one section per scene, with the reference's convergence."""
+    """The table as Markdown, one section per scene, with the reference's convergence. Scenes
+    with yielding members (inelastic columns, isolators) get two more columns: the errors of
+    the members' peak deflections and peak ductilities."""
     lines = []
     for report in reports:
         c = report.convergence
+        members = c.members > 0
         lines.append(
             f"**{report.scene}** — reference: {report.reference.name}, {report.reference_steps:,} steps; "
             f"halving its Δt changes peak deflections by {c.peak_deflection:.1e} (normwise "
-            f"{c.peak_deflection_norm:.1e}) and the peak force by {c.peak_force:.1e} (impacts {c.impact_count:+d})\n"
-        )
+            f"{c.peak_deflection_norm:.1e}) and the peak force by {c.peak_force:.1e} (impacts {c.impact_count:+d})"
+            + (f"; the {c.members} yielding members' peak deflections by {c.member_deflection:.1e} and "
+               f"peak ductilities by {c.ductility:.1e}" if members else "")
+            + "\n"
+        )  # fmt: skip
+        extra = " member deflection error | ductility error |" if members else ""
         lines.append("| setting | steps | contact steps | solver (s) | peak deflection error | normwise "
-                     "| peak force error | impacts Δ | energy balance | front |")  # fmt: skip
-        lines.append("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | :---: |")
+                     f"| peak force error | impacts Δ | energy balance |{extra} front |")  # fmt: skip
+        lines.append("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |" + " ---: | ---: |" * members
+                     + " :---: |")  # fmt: skip
         front = on_front(report)
         for row in report.rows:
             e = row.errors
             name = f"**{row.setting.name}**" if row.setting.default else row.setting.name
+            cells = f" {e.member_deflection:.1e} | {e.ductility:.1e} |" if members else ""
             lines.append(
                 f"| {name} | {row.steps:,} | {row.contact_steps:,} | {row.wall_time:.3g} | "
                 f"{e.peak_deflection:.1e} | {e.peak_deflection_norm:.1e} | {e.peak_force:.1e} | {e.impact_count:+d} | "
-                f"{e.energy_balance:.1e} | "
+                f"{e.energy_balance:.1e} |{cells} "
                 f"{'●' if row.setting.name in front else ''} |"
             )
         lines.append("")
@@ -74,13 +86,16 @@ def write_hdf5(reports: list[SceneReport], path: Path) -> None:
          ("default", np.bool_), ("on_front", np.bool_), ("steps", np.int64), ("contact_steps", np.int64),
          ("wall_time_s", np.float64), ("peak_deflection_error", np.float64),
          ("peak_deflection_error_normwise", np.float64), ("peak_force_error", np.float64),
-         ("impact_count_difference", np.int64), ("energy_balance_error", np.float64)]
+         ("impact_count_difference", np.int64), ("energy_balance_error", np.float64),
+         ("yielding_members", np.int64), ("member_deflection_error", np.float64), ("ductility_error", np.float64)]
     )  # fmt: skip
     table = np.array([tuple(r[name] for name in dtype.names) for r in rows], dtype=dtype)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with h5py.File(tmp, "w") as f:
         ds = f.create_dataset("bench", data=table)
-        ds.attrs["units"] = "-, -, -, -, -, -, -, s, -, -, -, -, -"
+        ds.attrs["units"] = "-, -, -, -, -, -, -, s, -, -, -, -, -, -, -, -"
+        ds.attrs["note"] = ("member_deflection_error and ductility_error: the yielding members' peaks "
+                            "(0 where yielding_members is 0)")  # fmt: skip
         from .. import __version__
 
         f.attrs["pound_version"] = __version__
@@ -90,8 +105,9 @@ def write_hdf5(reports: list[SceneReport], path: Path) -> None:
 
 
 def plot(reports: list[SceneReport], path: Path):
-    """Work-precision plot: error against solver time, log-log, one panel per scene. Returns
-    the matplotlib Figure (saved to `path`, written atomically)."""
+    """Work-precision plot: error against solver time, log-log, one panel per scene (with the
+    yielding members' peak deflection error as open markers where the scene has members).
+    Returns the matplotlib Figure (saved to `path`, written atomically)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -104,8 +120,13 @@ def plot(reports: list[SceneReport], path: Path):
     for ax, report in zip(axes.flat, reports):
         for integrator, marker in (("hybrid", "o"), ("cdm", "s")):
             rows = [r for r in report.rows if r.setting.integrator == integrator]
+            if not rows:
+                continue
             ax.loglog([r.wall_time for r in rows], [max(r.errors.peak_deflection, 1e-9) for r in rows], marker,
                       label=f"{integrator}: peak deflection", linestyle="none")  # fmt: skip
+            if report.convergence.members:
+                ax.loglog([r.wall_time for r in rows], [max(r.errors.member_deflection, 1e-9) for r in rows], marker,
+                          label=f"{integrator}: member peak |δ|", linestyle="none", markerfacecolor="none")  # fmt: skip
         default = next((r for r in report.rows if r.setting.default), None)
         if default is not None:
             ax.loglog([default.wall_time], [max(default.errors.peak_deflection, 1e-9)], "*", markersize=14,
