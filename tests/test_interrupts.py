@@ -17,12 +17,31 @@ from conftest import INPUTS
 MODEL = INPUTS / "paper_pounding.toml"
 
 
-def _start(tmp_path, out):
+ANNOUNCING_RUN = """
+import contextlib, sys
+from pathlib import Path
+import pounding_cli.cli as cli
+marker = Path(sys.argv.pop(1))
+@contextlib.contextmanager
+def announcing_bar(show):
+    def update(done, total):
+        if done > 0:
+            marker.touch()
+    yield update
+cli._progress_bar = announcing_bar
+cli.main()
+"""
+"""`pound run` that touches a marker file once the time loop reports progress, so that a test
+can signal it mid-loop however long the imports and the kernel loading take."""
+
+
+def _start(tmp_path, out, marker=None):
     # the CDM at every step makes the run long enough (~2 s of solver) to be hit mid-way
     model = tmp_path / "slow.toml"
     model.write_text(MODEL.read_text().replace('dt = "auto"', 'dt = "auto"\nintegrator = "cdm"'))
     (tmp_path / "records").symlink_to(INPUTS / "records")
-    return subprocess.Popen([sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(out), "--no-progress"],
+    command = ["-m", "pounding_cli"] if marker is None else ["-c", ANNOUNCING_RUN, str(marker)]
+    return subprocess.Popen([sys.executable, *command, "run", str(model), "-o", str(out), "--no-progress"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
 
 
@@ -63,7 +82,7 @@ def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
             assert status is None or status == "failed: interrupted", (status, stderr)
         else:
             assert status in (None, "complete")
-    leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records")]
+    leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records", "looping")]
     if sig == signal.SIGTERM:
         assert leftovers == [], "no temporary file is left behind"
 
@@ -72,10 +91,12 @@ def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
 def test_sigterm_during_the_time_loop_writes_marked_partial_results(tmp_path):
     """Once the time loop runs, SIGTERM stops it and the partial results are written."""
     out = tmp_path / "out.h5"
-    process = _start(tmp_path, out)
-    deadline = time.time() + 60
-    # wait until the solver has started: the compiled kernel is loaded after the imports
-    time.sleep(2.5)
+    marker = tmp_path / "looping"
+    process = _start(tmp_path, out, marker)
+    deadline = time.time() + 120
+    while not marker.exists() and process.poll() is None and time.time() < deadline:
+        time.sleep(0.01)
+    assert marker.exists() or process.poll() is not None, "the time loop did not start within 120 s"
     process.send_signal(signal.SIGTERM)
     _, stderr = process.communicate(timeout=max(1, deadline - time.time()))
     if process.returncode == 0:

@@ -17,6 +17,16 @@ Real = Annotated[float, StrictType()]
 Positive = Annotated[float, StrictType(), Field(gt=0)]
 """A finite real number > 0."""
 
+MIN_SAMPLE_INTERVAL = 1e-6
+"""Shortest accepted record sample interval, s (1 MHz; accelerographs sample at 50-1000 Hz).
+A shorter one is a damaged header or a unit slip, and would make the step count overflow."""
+
+MAX_SAMPLE_INTERVAL = 1.0
+"""Longest accepted record sample interval, s (1 Hz cannot describe ground shaking)."""
+
+SampleInterval = Annotated[float, StrictType(), Field(ge=MIN_SAMPLE_INTERVAL, le=MAX_SAMPLE_INTERVAL)]
+"""A record's sample interval, s, between MIN_SAMPLE_INTERVAL and MAX_SAMPLE_INTERVAL."""
+
 Count = Annotated[int, StrictType()]
 """An integer (booleans and strings are not)."""
 

@@ -70,6 +70,8 @@ def read_document(path: str | Path) -> dict[str, Any]:
             raise InputError(f"line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}", file=path) from None
         except RecursionError:
             raise InputError("invalid JSON: nested too deeply", file=path) from None
+        except ValueError as exc:  # an integer of more than sys.get_int_max_str_digits() digits
+            raise InputError(f"invalid JSON: {exc}", file=path) from None
     elif suffix == ".toml":
         try:
             data = tomllib.loads(text)
@@ -77,6 +79,8 @@ def read_document(path: str | Path) -> dict[str, Any]:
             raise InputError(f"invalid TOML: {exc}", file=path) from None
         except RecursionError:
             raise InputError("invalid TOML: nested too deeply", file=path) from None
+        except ValueError as exc:  # an integer of more than sys.get_int_max_str_digits() digits
+            raise InputError(f"invalid TOML: {exc}", file=path) from None
     else:
         raise InputError(f"unknown file type {path.suffix!r}: expected a .toml or .json file", file=path)
     if not isinstance(data, dict):

@@ -23,7 +23,7 @@ from pydantic import BeforeValidator, Field, ValidationError, WithJsonSchema, mo
 from pydantic import Strict as StrictType
 
 from ..errors import InputError
-from .base import Positive, Real, Strict
+from .base import Positive, Real, SampleInterval, Strict
 
 Units = Literal["g", "m/s2", "cm/s2", "gal"]
 
@@ -80,8 +80,8 @@ class RecordComponent(Strict):
     """File format: "auto" (obspy detects it, plain text as the fallback), "text", or an
     obspy format name such as "MSEED", "SAC", "AT2" or "COSMOS"."""
 
-    dt: Positive | None = None
-    """Sample interval, s; needed for plain text with one value per line. If given for
+    dt: SampleInterval | None = None
+    """Sample interval, s (10⁻⁶ to 1); needed for plain text with one value per line. If given for
     another file, it must agree with the file's own interval."""
 
     azimuth: Azimuth | None = None

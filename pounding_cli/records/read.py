@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pounding_cli.errors import RecordReadError
+from pounding_cli.model.base import MAX_SAMPLE_INTERVAL, MIN_SAMPLE_INTERVAL
 from pounding_cli.records.plaintext import REL_TOL, NotPlainText, decode_text, parse_plaintext
 
 if TYPE_CHECKING:
@@ -204,15 +205,16 @@ def _unit_factor(units: str) -> float:
 
 
 def _check_dt_argument(dt: float | None) -> None:
-    """Raise unless ``dt`` is None or a finite positive number of seconds."""
+    """Raise unless ``dt`` is None or a plausible sample interval, s."""
     if dt is None:
         return
     try:
-        ok = math.isfinite(dt) and dt > 0.0
+        ok = MIN_SAMPLE_INTERVAL <= dt <= MAX_SAMPLE_INTERVAL
     except TypeError:
         ok = False
     if not ok:
-        raise RecordReadError(f"dt must be a finite positive number of seconds, got {dt!r}", field="dt")
+        raise RecordReadError(f"dt must be a sample interval of {MIN_SAMPLE_INTERVAL:g} to {MAX_SAMPLE_INTERVAL:g} s, "
+                              f"got {dt!r}", field="dt")
 
 
 def _check_file(path: Path) -> None:
@@ -409,9 +411,10 @@ refusing it here keeps overflow (an Arias intensity of inf) out of everything do
 
 def _check_samples(dt: float, values: np.ndarray, path: Path, factor: float = 1.0) -> None:
     """Raise unless there are at least two finite samples, no larger than MAX_ACCELERATION
-    once multiplied by `factor` (to m/s²), and dt is finite and positive."""
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise RecordReadError(f"{path}: sample interval dt = {dt!r} s is not finite and positive")
+    once multiplied by `factor` (to m/s²), and dt is a plausible sample interval."""
+    if not MIN_SAMPLE_INTERVAL <= dt <= MAX_SAMPLE_INTERVAL:
+        raise RecordReadError(f"{path}: sample interval dt = {dt!r} s is outside {MIN_SAMPLE_INTERVAL:g} to "
+                              f"{MAX_SAMPLE_INTERVAL:g} s (a damaged header?)")
     if values.size < 2:
         count = "zero samples" if values.size == 0 else "only one sample"
         raise RecordReadError(f"{path}: {count}; a record needs at least two")

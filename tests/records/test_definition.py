@@ -54,8 +54,10 @@ def test_metadata_and_a_toml_date():
     ({"L": COMPONENT, "processing": {"filter": {"corners": 4}}}, "give freqmin (Hz), freqmax (Hz) or both"),
     ({"L": COMPONENT, "processing": {"filter": {"freqmin": 5.0, "freqmax": 1.0}}}, "freqmin = 5 Hz must be below freqmax = 1 Hz"),
     ({"L": COMPONENT, "processing": {"window": {"start": 5.0, "end": 5.0}}}, "end = 5 s must be after start = 5 s"),
-    ({"L": {**COMPONENT, "dt": 0.0}}, "L.dt: Input should be greater than 0"),
-    ({"L": {**COMPONENT, "dt": -0.01}}, "L.dt: Input should be greater than 0"),
+    ({"L": {**COMPONENT, "dt": 0.0}}, "L.dt: Input should be greater than or equal to 0.000001"),
+    ({"L": {**COMPONENT, "dt": -0.01}}, "L.dt: Input should be greater than or equal to 0.000001"),
+    ({"L": {**COMPONENT, "dt": 1e-320}}, "L.dt: Input should be greater than or equal to 0.000001"),
+    ({"L": {**COMPONENT, "dt": 2.0}}, "L.dt: Input should be less than or equal to 1"),
     ({"L": {**COMPONENT, "units": "mm/s2"}}, "L.units: Input should be 'g', 'm/s2', 'cm/s2' or 'gal'"),
     ({"magnitude": 12.0, "L": COMPONENT}, "magnitude: Input should be less than or equal to 10"),
 ])  # fmt: skip

@@ -141,7 +141,7 @@ AT2_HEADER = "PEER NGA STRONG MOTION DATABASE RECORD\nTest, 1/1/2000, STA, 0\nAC
     ("zero_dt.AT2", AT2_HEADER + "NPTS=    2, DT=   .0000 SEC,\n  .1  .2\n", [],
      ["zero_dt.AT2: line 4: DT = .0000 s is not a positive time step"]),
     ("nan.txt", "0.1\n0.2\nnan\n", ["--units", "g", "--dt", "0.01"], ["nan.txt: line 3: non-finite value"]),
-    ("column.txt", "0.1\n0.2\n", ["--units", "g", "--dt", "0"], ["--dt", "dt must be a finite positive number of seconds, got 0.0"]),
+    ("column.txt", "0.1\n0.2\n", ["--units", "g", "--dt", "0"], ["--dt", "dt must be a sample interval of 1e-06 to 1 s, got 0.0"]),
     ("column2.txt", "0.1\n0.2\n", ["--units", "g", "--dt", "-0.01"], ["--dt", "got -0.01"]),
     ("column3.txt", "0.1\n0.2\n", ["--units", "g"], ["--dt", "column3.txt: plain text with one value per line: give 'dt'"]),
     ("column4.txt", "0.1\n0.2\n", ["--dt", "0.01"], ["--units", "column4.txt: plain text does not say in which units"]),
@@ -158,7 +158,7 @@ def test_bad_record_files(tmp_path, name, text, args, expected):
 @pytest.mark.parametrize(("definition", "expected"), [
     ('[L]\nfile = "a.mseed"\nunits = "g"\nazimuth = 400\n', "bad.record.toml: L.azimuth: Input should be less than or equal to 360"),
     ('name = "no components"\n', "bad.record.toml: (top level): a record needs at least one component"),
-    ('[L]\nfile = "a.mseed"\nunits = "g"\ndt = 0\n', "bad.record.toml: L.dt: Input should be greater than 0"),
+    ('[L]\nfile = "a.mseed"\nunits = "g"\ndt = 0\n', "bad.record.toml: L.dt: Input should be greater than or equal to 0.000001"),
     ('[L]\nfile = "a.txt"\nunits = "g"\ndt = 0.02\n[T]\nfile = "b.txt"\nunits = "g"\ndt = 0.01\n[processing]\nresample = false\n',
      "bad.record.toml: processing.resample: the components have different sample intervals (L: 0.02 s, T: 0.01 s)"),
     ('[L]\nfile = "missing.AT2"\nunits = "g"\n', "bad.record.toml: L.file: "),
