@@ -16,6 +16,14 @@ _requested = False
 _depth = 0
 
 
+class Interrupted(KeyboardInterrupt):
+    """What the handler raises: caught by every ``except KeyboardInterrupt``. A subclass
+    because CPython remembers a plain KeyboardInterrupt that passes through an ``exec`` of
+    source text (numba and dataclasses generate code that way) and then ends the process by
+    SIGINT (exit −2) even after pound has handled it and chosen exit 1; it compares the
+    exception's type with KeyboardInterrupt exactly, so a subclass is not remembered."""
+
+
 class terminate_as_interrupt:
     """Within the block, SIGTERM interrupts like Ctrl-C: the time loop stops between chunks,
     the partial results are written marked "failed: interrupted", and the run exits 1.
@@ -45,11 +53,11 @@ class terminate_as_interrupt:
 def _interrupt(signum: int, frame: object) -> None:
     global _requested
     _requested = True
-    raise KeyboardInterrupt
+    raise Interrupted
 
 
 def stop_if_requested() -> None:
     """Raise KeyboardInterrupt if a stop was requested in the current block, even one whose
     first KeyboardInterrupt the interpreter swallowed."""
     if _requested:
-        raise KeyboardInterrupt
+        raise Interrupted

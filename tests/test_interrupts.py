@@ -107,3 +107,22 @@ def test_sigterm_during_the_time_loop_writes_marked_partial_results(tmp_path):
     with h5py.File(out) as f:
         assert 0 < f["time"].shape[0] < 2001
 
+
+
+def test_a_handled_interrupt_inside_generated_code_still_exits_1(tmp_path):
+    """CPython remembers a plain KeyboardInterrupt that passes through exec() of source text
+    (numba and dataclasses generate code so) and, under `python -m`, ends the process by
+    SIGINT after it was handled: pound's handler raises a subclass, which it does not."""
+    (tmp_path / "interrupt_in_exec.py").write_text(
+        "import os, signal, sys\n"
+        "from pounding_cli.interrupts import terminate_as_interrupt\n"
+        "with terminate_as_interrupt():\n"
+        "    try:\n"
+        "        exec('import os, signal\\nos.kill(os.getpid(), signal.SIGTERM)\\nfor i in range(10**6): pass')\n"
+        "    except KeyboardInterrupt:\n"
+        "        print('handled')\n"
+        "sys.exit(1)\n"
+    )
+    done = subprocess.run([sys.executable, "-m", "interrupt_in_exec"], cwd=tmp_path, capture_output=True, timeout=60)
+    assert done.stdout == b"handled\n", done.stderr
+    assert done.returncode == 1
