@@ -28,7 +28,7 @@ special case. Everything here works on plain arrays and allocates nothing.
 from __future__ import annotations
 
 import numpy as np
-from .jit import kernel
+from .jit import REASSOCIATE, kernel
 
 from .contact import contact_forces
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
@@ -68,7 +68,7 @@ def ground_at(t, ground, ground_dt):
     return (1 - w) * ground[i, 0] + w * ground[i + 1, 0], (1 - w) * ground[i, 1] + w * ground[i + 1, 1]
 
 
-@kernel
+@kernel(fastmath=REASSOCIATE)
 def storey_matvec(x, storey_k, bottom, top, out):
     """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
     out[:] = 0.0
@@ -82,6 +82,27 @@ def storey_matvec(x, storey_k, bottom, top, out):
             out[b + r if r < 3 else t + r - 3] += acc
 
 
+@kernel(fastmath=REASSOCIATE)
+def storey_matvec_pair(x, y, storey_k, bottom, top, kx, ky):
+    """kx = K·x and ky = K·y in one pass over the storeys (as storey_matvec, twice)."""
+    kx[:] = 0.0
+    ky[:] = 0.0
+    for s in range(storey_k.shape[0]):
+        b = 3 * bottom[s]
+        t = 3 * top[s]
+        for r in range(6):
+            ax = 0.0
+            ay = 0.0
+            for c in range(3):
+                k_b = storey_k[s, r, c]
+                k_t = storey_k[s, r, c + 3]
+                ax += k_b * x[b + c] + k_t * x[t + c]
+                ay += k_b * y[b + c] + k_t * y[t + c]
+            d = b + r if r < 3 else t + r - 3
+            kx[d] += ax
+            ky[d] += ay
+
+
 @kernel
 def damping_force(v, kv, mass, a0, a1, n_dof, out):
     """out = C·v = a0·M·v + a1·K·v, DOF by DOF, given kv = K·v."""
@@ -89,7 +110,7 @@ def damping_force(v, kv, mass, a0, a1, n_dof, out):
         out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
 
 
-@kernel
+@kernel(fastmath=REASSOCIATE)
 def solve_blocks(binv, dof_start, dof_count, r, out):
     """out = blockdiag(B⁻¹)·r, one dense block per building."""
     for b in range(dof_start.size):

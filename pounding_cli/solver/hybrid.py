@@ -31,12 +31,13 @@ from .cdm import (
     ground_at,
     solve_blocks,
     storey_matvec,
+    storey_matvec_pair,
     update_peaks,
     write_output,
 )
 from .contact import contact_possible_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
-from .jit import kernel
+from .jit import REASSOCIATE, kernel
 
 MODE_EXACT, MODE_CDM = 0, 1
 ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
@@ -52,8 +53,7 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_
     and the members' plastic correction g. Returns the ground acceleration (X, Y) at t."""
     agx, agy = ground_at(t, ground, ground_dt)
     n_dof = mass.size
-    storey_matvec(u, storey_k, bottom, top, ku)
-    storey_matvec(v, storey_k, bottom, top, kv)
+    storey_matvec_pair(u, v, storey_k, bottom, top, ku, kv)
     damping_force(v, kv, mass, dof_a0, dof_a1, n_dof, cv)
     for d in range(n_dof):
         a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
@@ -64,7 +64,7 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_
     return agx, agy
 
 
-@kernel
+@kernel(fastmath=REASSOCIATE)
 def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y):
     """(u, v) at t + h from (u, v) at t, exactly, building by building (x, y: scratch)."""
     a0x, a0y = ground_at(t, ground, ground_dt)
