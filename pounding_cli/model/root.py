@@ -58,14 +58,9 @@ class PoundModel(Strict):
                             "building and obstacle names must be unique"))  # fmt: skip
             first.setdefault(name, path)
         defined = ", ".join(self.materials)
+        out += [(field, f"unknown material {name!r}; defined: {defined}")
+                for field, name in self._column_references("material") if name not in self.materials]  # fmt: skip
         for b, building in enumerate(self.buildings):
-            for f, floor in enumerate(building.floors):
-                path = f"buildings[{b}].floors[{f}]"
-                used = [(f"{path}.columns[{c}].material", col.material) for c, col in enumerate(floor.columns)]
-                if floor.column_grid is not None:
-                    used.insert(0, (f"{path}.column_grid.material", floor.column_grid.material))
-                out += [(field, f"unknown material {name!r}; defined: {defined}")
-                        for field, name in used if name not in self.materials]  # fmt: skip
             if building.slab_material is not None and building.slab_material not in self.materials:
                 out.append((f"buildings[{b}].slab_material", f"unknown material {building.slab_material!r}; "
                             f"defined: {defined}"))  # fmt: skip
@@ -74,19 +69,27 @@ class PoundModel(Strict):
                 out.append((f"obstacles[{o}].material", f"unknown material {obstacle.material!r}; defined: {defined}"))
         return out + self._yielding_problems(first)
 
+    def _column_references(self, key: str) -> list[tuple[str, str | None]]:
+        """(field path, value) of `key` ("material" or "hysteresis") on every column grid and
+        column, floor by floor."""
+        used: list[tuple[str, str | None]] = []
+        for b, building in enumerate(self.buildings):
+            for f, floor in enumerate(building.floors):
+                path = f"buildings[{b}].floors[{f}]"
+                if floor.column_grid is not None:
+                    used.append((f"{path}.column_grid.{key}", getattr(floor.column_grid, key)))
+                used += [(f"{path}.columns[{c}].{key}", getattr(col, key)) for c, col in enumerate(floor.columns)]
+        return used
+
     def _yielding_problems(self, bodies: dict[str, str]) -> list[tuple[str, str]]:
         """Unknown hysteretic laws, bearings and moat materials; moat names that clash."""
         out = []
         laws = ", ".join(self.hysteresis) or "none"
         bearings = ", ".join(self.bearings) or "none"
+        out += [(field, f"unknown hysteretic law {name!r}; defined in [hysteresis]: {laws}")
+                for field, name in self._column_references("hysteresis")
+                if name is not None and name not in self.hysteresis]  # fmt: skip
         for b, building in enumerate(self.buildings):
-            for f, floor in enumerate(building.floors):
-                path = f"buildings[{b}].floors[{f}]"
-                used = [(f"{path}.columns[{c}].hysteresis", col.hysteresis) for c, col in enumerate(floor.columns)]
-                if floor.column_grid is not None:
-                    used.insert(0, (f"{path}.column_grid.hysteresis", floor.column_grid.hysteresis))
-                out += [(field, f"unknown hysteretic law {name!r}; defined in [hysteresis]: {laws}")
-                        for field, name in used if name is not None and name not in self.hysteresis]  # fmt: skip
             iso = building.isolation
             if iso is None:
                 continue

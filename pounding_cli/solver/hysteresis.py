@@ -173,20 +173,10 @@ def member_states(u, members, plastic, k, out_member, peak_member):
             out_member[k, m, 1] = dy
             out_member[k, m, 2] = fx
             out_member[k, m, 3] = fy
-        d = np.sqrt(dx * dx + dy * dy)
-        f = np.sqrt(fx * fx + fy * fy)
-        if abs(dx) > peak_member[m, 0]:
-            peak_member[m, 0] = abs(dx)
-        if abs(dy) > peak_member[m, 1]:
-            peak_member[m, 1] = abs(dy)
-        if d > peak_member[m, 2]:
-            peak_member[m, 2] = d
-        if abs(fx) > peak_member[m, 3]:
-            peak_member[m, 3] = abs(fx)
-        if abs(fy) > peak_member[m, 4]:
-            peak_member[m, 4] = abs(fy)
-        if f > peak_member[m, 5]:
-            peak_member[m, 5] = f
+        size = (abs(dx), abs(dy), np.sqrt(dx * dx + dy * dy), abs(fx), abs(fy), np.sqrt(fx * fx + fy * fy))
+        for j in range(6):
+            if size[j] > peak_member[m, j]:
+                peak_member[m, j] = size[j]
 
 
 @kernel
