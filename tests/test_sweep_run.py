@@ -309,6 +309,33 @@ def test_dask_cluster_gives_the_same_results(two_jobs, tmp_path):
     assert len(result.stdout.splitlines()) == 8 and "Dask cluster" in result.stderr
 
 
+def test_dask_workers_get_absolute_paths(tmp_path, monkeypatch):
+    """A Dask worker's current folder is not the submitter's: with relative sweep and output
+    paths, every path a task carries is absolute."""
+    import pounding_cli.sweep.cluster as cluster
+
+    class Recording:
+        description = "a recording stand-in for a Dask cluster"
+
+        def __init__(self, client):
+            self.paths = []
+
+        def run(self, tasks):
+            for key, function, args in tasks:
+                self.paths += [a for a in args if isinstance(a, str) and a.endswith((".toml", ".h5", ".json"))]
+                yield key, True, function(*args)
+
+        def close(self):
+            recorded.extend(self.paths)
+
+    recorded: list[str] = []
+    monkeypatch.setattr(cluster, "DaskExecutor", Recording)
+    monkeypatch.chdir(SMALL.parent)
+    outcome = run_sweep(SMALL.name, os.path.relpath(tmp_path / "out"), client=object())
+    assert outcome.ok
+    assert recorded and all(Path(p).is_absolute() for p in recorded), recorded
+
+
 # --- the CLI ----------------------------------------------------------------------------------------
 
 

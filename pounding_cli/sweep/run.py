@@ -103,7 +103,12 @@ def run_sweep(
     say = log or (lambda text: None)
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
     _check_studies(loaded, studies)
-    folder = OutputFolder(output if output is not None else default_output(loaded.source))
+    folder = Path(output) if output is not None else default_output(loaded.source)
+    if scheduler is not None or scheduler_file is not None or client is not None:
+        # a Dask worker's current folder is not ours: it gets absolute paths
+        loaded = LoadedSweep(loaded.sweep, loaded.source.absolute())
+        folder = folder.absolute()
+    folder = OutputFolder(folder)
     with _executor(jobs, scheduler, scheduler_file, client) as executor:
         say(f"checking the cases of {loaded.source} on {executor.description}")
         checked = (lambda done, total: on_progress("check", done, 0, total)) if on_progress else None
