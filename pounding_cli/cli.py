@@ -506,6 +506,8 @@ def run_summary(result: Any) -> dict[str, Any]:
                 peak["column"] = b.column_names[c]
             peak["storey"] = int(s) + 1
             entry[f"peak_interstorey_{comp}"] = peak
+        if b.yielding is not None:
+            entry["yielding"] = _yielding_summary(b.yielding)
         buildings.append(entry)
     return {
         "status": result.status,
@@ -525,6 +527,34 @@ def run_summary(result: Any) -> dict[str, Any]:
         "contact_steps": d.get("contact_steps", 0),
         "buildings": buildings,
     }
+
+
+def _yielding_summary(y: Any) -> list[dict[str, Any]]:
+    """Per kind of yielding member (column, isolator): how many yielded, and the one with the
+    largest ductility (peak |δ| along a local axis over δ_y) with its peak resultant
+    deflection |δ| and residual deflection, m."""
+    import numpy as np
+
+    ductility = y.ductility.max(axis=1)
+    out = []
+    for kind in ("column", "isolator"):
+        index = np.flatnonzero(y.members["kind"] == kind)
+        if index.size == 0:
+            continue
+        worst = int(index[np.argmax(ductility[index])])
+        out.append({
+            "kind": kind,
+            "members": int(index.size),
+            "yielded": int(np.count_nonzero(ductility[index] >= 1.0)),
+            "largest_ductility": {
+                "member": str(y.members["name"][worst]),
+                "storey": int(y.members["storey"][worst]),
+                "ductility": float(ductility[worst]),
+                "peak_deflection_m": float(y.peak[worst, 2]),
+                "residual_deflection_m": float(np.hypot(*y.residual_deflection[worst])),
+            },
+        })  # fmt: skip
+    return out
 
 
 def _print_summary(s: dict[str, Any]) -> None:
@@ -551,6 +581,15 @@ def _print_summary(s: dict[str, Any]) -> None:
             cells.append(f"{scale * p['value']:.3g} ({where})" if p else "-")
         table.add_row(b["name"], *cells)
     out.print(table)
+    for b in s["buildings"]:
+        for group in b.get("yielding", []):
+            w = group["largest_ductility"]
+            out.print(
+                f"{b['name']}: {group['yielded']} of {group['members']} {group['kind']}s yielded; largest "
+                f"ductility {w['ductility']:.3g} ({w['member']}, storey {w['storey']}: peak |δ| "
+                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm)",
+                markup=False,
+            )
 
 
 def _print_description(info: dict[str, Any]) -> None:

@@ -64,6 +64,41 @@ def test_run_subprocess_writes_file_and_json(tmp_path):
         assert f.attrs["status"] == "complete"
 
 
+def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
+    """`pound run --json` and the printed summary give, per kind of yielding member, how many
+    yielded and the one of largest ductility, as the file's /buildings/<b>/yielding says."""
+    import numpy as np
+    from pounding_cli.model import read_document
+
+    doc = read_document(INPUTS / "paper_inelastic.toml")
+    doc["analysis"]["duration"] = 16.0
+    model = tmp_path / "model.json"
+    model.write_text(json.dumps(doc))
+    (tmp_path / "records").symlink_to(INPUTS / "records")
+    out = tmp_path / "out.h5"
+    r = runner.invoke(app, ["run", str(model), "-o", str(out), "--json"])
+    assert r.exit_code == 0, r.output
+    summary = {b["name"]: b for b in json.loads(r.stdout)["buildings"]}
+    with h5py.File(out) as f:
+        for name in ("left", "right"):
+            g = f[f"buildings/{name}/yielding"]
+            ductility = g["ductility"][()].max(axis=1)
+            worst = int(np.argmax(ductility))
+            (group,) = summary[name]["yielding"]
+            assert group["kind"] == "column" and group["members"] == ductility.size
+            assert group["yielded"] == int((ductility >= 1).sum()) > 0
+            w = group["largest_ductility"]
+            assert w["member"] == g["members"]["name"][worst].decode()
+            assert w["ductility"] == pytest.approx(ductility[worst], rel=1e-12)
+            assert w["peak_deflection_m"] == pytest.approx(g["peak"][worst, 2], rel=1e-12)
+            assert w["residual_deflection_m"] == pytest.approx(np.hypot(*g["residual_deflection"][worst]), rel=1e-12)
+    printed = runner.invoke(app, ["run", str(model), "-o", str(out), "--force"], env={"COLUMNS": "200"})
+    group = summary["left"]["yielding"][0]
+    line = (f"left: {group['yielded']} of {group['members']} columns yielded; largest ductility "
+            f"{group['largest_ductility']['ductility']:.3g} ({group['largest_ductility']['member']}, storey")
+    assert line in printed.stdout, printed.stdout
+
+
 def test_run_default_output_name(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     r = runner.invoke(app, ["run", str(EXAMPLE), "--no-progress"])
