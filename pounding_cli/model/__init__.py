@@ -7,7 +7,17 @@ from .excitation import Excitation, Record, RecordComponent
 from .load import LoadedModel, load_model, read_document, validate_model
 from .material import Material
 from .root import PoundModel
-from .sweep import LoadedSweep, load_sweep, validate_sweep
+
+_SWEEP_NAMES = ("LoadedSweep", "load_sweep", "validate_sweep")
+
+
+def __getattr__(name: str):
+    """The sweep file's models load on first use: `pound run` does not need them (30 ms)."""
+    if name in _SWEEP_NAMES:
+        from . import sweep
+
+        return getattr(sweep, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "Analysis",
