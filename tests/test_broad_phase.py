@@ -167,3 +167,14 @@ def test_contact_possible_within_gives_the_all_pairs_answer(case):
             assert answer == expected
             answers.append(expected)
     assert 0.1 < np.mean(answers) < 0.9, "both answers are tested"
+
+
+@pytest.mark.parametrize("case, sweeps", [("paper example", False), ("isolated, moat walls", False),
+                                          ("row of 5", True), ("row of 20", True)])  # fmt: skip
+def test_the_cheaper_broad_phase_is_chosen(case, sweeps):
+    """Sweep and prune from 1.5 candidate pairs per group member (a row of 4 buildings and
+    more); below, the all-pairs loop, which has no set-up per step."""
+    path, _, edit, _ = CASES[case]
+    contact = _scene(path, 1.0, edit).contact
+    groups = sweep_arrays(contact.pair_a, contact.pair_b, contact.body_floor, bounding_boxes(contact))[2]
+    assert (groups.size > 0) == sweeps

@@ -145,7 +145,7 @@ def contact_forces(
     broad = broad_phase.sweep_arrays(…): with groups, only the pairs sweep and prune returns
     (and those in contact at the last step) are visited; without, every pair. Either way the
     pairs are visited in ascending order, so forces add up in the same order, bit for bit.
-    Returns the number of pairs in contact.
+    Returns the number of pairs in contact, also left in broad's n_live.
     """
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff = params
