@@ -33,9 +33,11 @@ from .jit import kernel
 
 SWEEP_PAIRS_PER_MEMBER = 1.5
 """Sweep and prune replaces the all-pairs loop when the candidate pairs number at least this
-many times the group members (bodies, an obstacle counted once per level it spans): the
-all-pairs test costs about 8 ns a pair, sweep and prune about 11 ns a member plus some 35 ns
-a step (measured, docs/bench.md, Scaling); in a row of n buildings pairs/members = (n − 1)/2."""
+many times the group members (bodies, an obstacle counted once per level it spans). Testing a
+pair costs about 8 ns, sweeping a member about 12 ns, plus a fixed cost per step; the two
+break even near 1.4 pairs per member for the contact step and 1.7 for the hybrid's horizon
+check (docs/bench/crossover.md, `python -m pounding_cli.bench.crossover`). In a row of n
+buildings there are (n − 1)/2 pairs per member: sweep and prune from 4 buildings on."""
 
 # columns of the per-member bounds: lower and upper bound along the group's sweep axis, then
 # along the other axis, m
