@@ -96,8 +96,9 @@ def _displaced_bounds(start, stop, axis, u, group_body, body_floor, body_radius,
 @kernel(inline="always")
 def _widened_bounds(start, stop, axis, horizon, u, v, acc, group_body, body_floor, body_radius, body_box, bounds):
     """Members start…stop−1: the displaced box widened further by how far the body can move
-    within `horizon` s. Returns False when a bound is NaN (the caller must then assume the
-    worst, as the all-pairs test does: NaN compares false)."""
+    within `horizon` s. Returns False when a bound is NaN: the sort cannot order it, and the
+    caller answers that a contact may begin (the CDM then takes over and stops a run gone
+    bad at once)."""
     for s in range(start, stop):
         k = group_body[s]
         ux, uy, gx, gy, r = reach_over(k, u, v, acc, horizon, body_floor, body_radius)
@@ -201,7 +202,8 @@ def pairs_to_visit(u, geometry, broad):
 @kernel(inline="always")
 def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
     """True when some pair's boxes, each widened by how far its body can move within `horizon`
-    s, overlap (sweep and prune; the same answer as testing every pair)."""
+    s, overlap (sweep and prune: the answer of testing every pair, for any state without NaN;
+    True for one with NaN)."""
     body_floor = geometry[2]
     body_radius = geometry[4]
     body_box = geometry[5]
