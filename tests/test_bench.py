@@ -126,3 +126,15 @@ def test_member_errors_are_zero_without_members():
     run = execute(with_setting(prepare(path), next(s for s in SETTINGS if s.default), 1.0))
     e = compare(run, run)
     assert (e.members, e.member_deflection, e.ductility) == (0, 0.0, 0.0)
+
+
+def test_crossover_measures_both_broad_phases(monkeypatch):
+    """`python -m pounding_cli.bench.crossover`: a row of three buildings, a short run."""
+    from pounding_cli.bench import crossover
+
+    monkeypatch.setattr(crossover, "STEPS", 400)
+    name, scene = next(crossover.scenes(rows=(3,), names=()))
+    point = crossover.measure(name, scene, repeats=1)
+    assert (point.pairs, point.members) == (9, 9)
+    assert min(point.contact_all_ns, point.contact_sweep_ns, point.horizon_all_ns, point.horizon_sweep_ns) > 0
+    assert "| row of 3 | 9 | 9 | 1.00 |" in crossover.markdown([point])

@@ -234,8 +234,9 @@ def advance(
     out_u, out_v, out_a, out_ground, out_energy, out_contact,
     # work arrays (n_dof + 3 each, and n_storeys × 3)
     r, dv, v, a_abs, z, cv_next, storey_work,
-    # contact: tuples of arrays (see contact.contact_forces), pair state, impact log, buffers
-    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+    # contact: tuples of arrays (see contact.contact_forces), pair state, impact log, buffers,
+    # broad phase (broad_phase.sweep_arrays)
+    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
     # yielding members (hysteresis.py): parameters, plastic deflections, correction g, outputs
     members, plastic, g, out_member, peak_member,
 ):
@@ -254,7 +255,7 @@ def advance(
             for d in range(n_dof):  # v_n ≈ v_{n-1/2} + Δv_{n-1}/2 (dv still holds the last step's)
                 v_est[d] = v_half[d] + 0.5 * dv[d]
             if contact_forces(n, dt, u, v_half, v_est, geometry, params, pair_state, pair_now, events, n_events,
-                              fc, cbuf[0], cbuf[1], cbuf[2], cbuf[3], cbuf[4], cbuf[5], cbuf[6]) > 0:  # fmt: skip
+                              fc, broad, cbuf[0], cbuf[1], cbuf[2], cbuf[3], cbuf[4], cbuf[5], cbuf[6]) > 0:  # fmt: skip
                 acc[ACC_CONTACT_STEPS] += 1.0
         # 4. residual and velocity increment
         for f in range(n_floors):

@@ -1,7 +1,8 @@
 """Contact forces of the overlap-area impact model (paper section 4), compiled.
 
-For every candidate pair (two floors at one level, or a floor and a fixed obstacle), each
-step: a broad phase on bounding boxes and circles; the deformed outlines; their overlap polygon
+For every candidate pair (two floors at one level, or a floor and a fixed obstacle) whose
+bounding boxes overlap (broad_phase.py: sweep and prune, or every pair tested), each step:
+bounding circles; the deformed outlines; their overlap polygon
 (clip_overlap) and contact frame (contact_frame: area A_c, centroid c, normal n from A into
 B, tangent t = ẑ × n); then the impact law acting at c:
 
@@ -24,6 +25,7 @@ impact log.
 from __future__ import annotations
 
 import numpy as np
+from .broad_phase import boxes_may_meet_within, pairs_to_visit, reach, reach_over
 from .jit import kernel
 
 from .contact_geometry import (
@@ -91,20 +93,11 @@ def _apply(f, fx, fy, cx, cy, gx, gy, out):
 
 
 @kernel(inline="always")
-def _reach(body, u, body_floor, body_radius):
-    """(u_x, u_y, how far a rotation can move a vertex) of a body, m."""
-    f = body_floor[body]
-    if f < 0:
-        return 0.0, 0.0, 0.0
-    return u[3 * f], u[3 * f + 1], abs(u[3 * f + 2]) * body_radius[body]
-
-
-@kernel(inline="always")
 def _boxes_meet(a, b, u, body_floor, body_radius, body_box):
     """Broad phase: the displaced outlines' bounding boxes (rest box moved by u and widened
     by |θ|·r) overlap. Rejects neighbours whose gap is open in a few operations."""
-    ax, ay, ar = _reach(a, u, body_floor, body_radius)
-    bx, by, br = _reach(b, u, body_floor, body_radius)
+    ax, ay, ar = reach(a, u, body_floor, body_radius)
+    bx, by, br = reach(b, u, body_floor, body_radius)
     if body_box[a, 2] + ax + ar < body_box[b, 0] + bx - br:
         return False
     if body_box[b, 2] + bx + br < body_box[a, 0] + ax - ar:
@@ -117,9 +110,9 @@ def _boxes_meet(a, b, u, body_floor, body_radius, body_box):
 
 
 @kernel(inline="always")
-def _circles_meet(ax, ay, bx, by, reach):
+def _circles_meet(ax, ay, bx, by, radius_sum):
     """Broad phase: bounding circles about the displaced mass centres meet."""
-    return (bx - ax) ** 2 + (by - ay) ** 2 <= reach * reach
+    return (bx - ax) ** 2 + (by - ay) ** 2 <= radius_sum * radius_sum
 
 
 @kernel
@@ -137,7 +130,7 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
 
 @kernel
 def contact_forces(
-    n, dt, u, v_half, v_est, geometry, params, state, now, events, n_events, forces, poly_a, poly_b, clip,
+    n, dt, u, v_half, v_est, geometry, params, state, now, events, n_events, forces, broad, poly_a, poly_b, clip,
     clip_label, tmp, tmp_label, frame,
 ):
     """Contact forces at step n: adds them to `forces` (n_dof + 3).
@@ -148,14 +141,23 @@ def contact_forces(
 
     geometry = (body_poly, body_nv, body_floor, body_centre, body_radius, body_box) with body_box
     (n_bodies, 4) the outlines' bounding boxes at rest (x_min, y_min, x_max, y_max);
-    params = (pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff).
-    Returns the number of pairs in contact.
+    params = (pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff);
+    broad = broad_phase.sweep_arrays(…): with groups, only the pairs sweep and prune returns
+    (and those in contact at the last step) are visited; without, every pair. Either way the
+    pairs are visited in ascending order, so forces add up in the same order, bit for bit.
+    Returns the number of pairs in contact, also left in broad's n_live.
     """
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff = params
+    hits = broad[7]
+    live = broad[8]
+    n_live = broad[9]
+    sweeping = broad[2].size > 0
+    visits = pairs_to_visit(u, geometry, broad) if sweeping else pair_a.size
     t_now = n * dt
     in_contact = 0
-    for p in range(pair_a.size):
+    for i in range(visits):
+        p = hits[i] if sweeping else i
         a = pair_a[p]
         b = pair_b[p]
         fa = body_floor[a]
@@ -172,16 +174,18 @@ def contact_forces(
             touching = narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay, gbx, gby,
                                     poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
         if not touching:
-            if state[p, ST_ACTIVE] > 0:  # the episode ends
+            if state[p, ST_ACTIVE] > 0:  # the episode ends (now holds values only during one)
                 e = int(state[p, ST_EVENT])
                 if e < events.shape[0]:
                     events[e, EV_T_END] = t_now
                 state[p, ST_ACTIVE] = 0.0
                 state[p, ST_FT] = 0.0
                 state[p, ST_SLIP] = 0.0
-            for k in range(now.shape[1]):
-                now[p, k] = 0.0
+                for k in range(now.shape[1]):
+                    now[p, k] = 0.0
             continue
+        if sweeping:
+            live[in_contact] = p
         in_contact += 1
         area = frame[AREA]
         cx = frame[CX]
@@ -257,6 +261,7 @@ def contact_forces(
                 events[e, EV_PEAK_DEPTH] = frame[DEPTH]
             if slipping:
                 events[e, EV_SLID] = 1.0
+    n_live[0] = in_contact
     return in_contact
 
 
@@ -274,32 +279,21 @@ def buffers(n_vertices: int) -> tuple[np.ndarray, ...]:
     )
 
 
-@kernel(inline="always")
-def _reach_over(body, u, v, acc, horizon, body_floor, body_radius):
-    """A body's displacement (u_x, u_y) and how much farther (along x, along y, by rotation)
-    it can move within `horizon` s from its velocity and acceleration, m."""
-    f = body_floor[body]
-    if f < 0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0
-    half = 0.5 * horizon * horizon
-    grow_x = horizon * abs(v[3 * f]) + half * abs(acc[3 * f])
-    grow_y = horizon * abs(v[3 * f + 1]) + half * abs(acc[3 * f + 1])
-    turn = (abs(u[3 * f + 2]) + horizon * abs(v[3 * f + 2]) + half * abs(acc[3 * f + 2])) * body_radius[body]
-    return u[3 * f], u[3 * f + 1], grow_x, grow_y, turn
-
-
 @kernel
-def contact_possible_within(horizon, u, v, acc, geometry, params):
+def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
     """True when some pair's bounding boxes, each widened by how far its body can move within
-    `horizon` s (velocity and acceleration now), overlap: a contact may begin that soon."""
+    `horizon` s (velocity and acceleration now), overlap: a contact may begin that soon.
+    With broad's groups by sweep and prune, else by testing every pair (the same answer)."""
+    if broad[2].size > 0:
+        return boxes_may_meet_within(horizon, u, v, acc, geometry, broad)
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a = params[0]
     pair_b = params[1]
     for p in range(pair_a.size):
         a = pair_a[p]
         b = pair_b[p]
-        ax, ay, agx, agy, ar = _reach_over(a, u, v, acc, horizon, body_floor, body_radius)
-        bx, by, bgx, bgy, br = _reach_over(b, u, v, acc, horizon, body_floor, body_radius)
+        ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
+        bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
         if body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br:
             continue
         if body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar:

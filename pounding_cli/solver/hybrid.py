@@ -99,7 +99,7 @@ def hybrid_advance(
     peak_col, peak_rot, peak_disp, peak_acc,
     out_u, out_v, out_a, out_ground, out_energy, out_contact,
     r, dv, v, a_abs, z, cv_next, storey_work,
-    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
     members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
     """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
@@ -142,7 +142,8 @@ def hybrid_advance(
                 if status != STATUS_OK:
                     return status, k
             if not (
-                (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params))
+                (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params,
+                                                     broad))
                 or (has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
                                                                           members, plastic)))  # fmt: skip
             ):
@@ -172,7 +173,7 @@ def hybrid_advance(
                             peak_col, peak_rot, peak_disp, peak_acc,
                             out_u, out_v, out_a, out_ground, out_energy, out_contact,
                             r, dv, v, a_abs, z, cv_next, storey_work,
-                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf,
+                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
                             members, plastic, g, out_member, peak_member)  # fmt: skip
         counters[CNT_CDM] += sub
         if status != STATUS_OK:
@@ -180,8 +181,9 @@ def hybrid_advance(
         for d in range(n_dof):
             a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
         if (
-            _all_apart(pair_state)
-            and not (has_pairs and contact_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params))
+            broad[9][0] == 0  # no pair was in contact at the last step (contact_forces counts them)
+            and not (has_pairs and contact_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params,
+                                                             broad))
             and not (has_members and yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic))
         ):
             if has_members:
@@ -193,14 +195,6 @@ def hybrid_advance(
             mode[0] = MODE_EXACT
             counters[CNT_SWITCHES] += 1
     return STATUS_OK, k_stop
-
-
-@kernel
-def _all_apart(pair_state):
-    for p in range(pair_state.shape[0]):
-        if pair_state[p, 0] > 0:
-            return False
-    return True
 
 
 @kernel

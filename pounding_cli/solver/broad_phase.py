@@ -1,0 +1,302 @@
+"""Broad phase of the contact search: which candidate pairs' bounding boxes overlap, compiled.
+
+A body's box is its outline's bounding box at rest, moved by the floor's (u_x, u_y) and
+widened on every side by |θ|·r (r: the largest distance from the mass centre to a vertex, so
+no vertex of the turned outline leaves it); an obstacle's box does not move. Two bodies can
+touch only if their boxes overlap along x and along y.
+
+Testing every candidate pair costs a few operations per pair and step, but pairs grow with the
+square of the buildings at a level (3·n(n−1)/2 in a row of n three-storey buildings). Sweep and
+prune (sort and sweep) makes the cost linear in the bodies plus the pairs whose boxes overlap:
+
+* Pairs are grouped by the level they belong to: the floors joined by floor–floor pairs (one
+  level, different buildings) and the obstacles that pair with them. An obstacle spanning
+  several levels is a member of several groups; every pair belongs to exactly one group.
+* Each group keeps its members ordered by the lower bound of their boxes along its sweep axis
+  (x or y, whichever spreads the rest boxes' centres more; fixed at set-up). Bodies move
+  little in a step, so an insertion sort of the last step's order costs O(members).
+* A sweep along the sorted members finds the pairs whose intervals overlap on that axis:
+  member i meets the members after it until one starts beyond i's upper bound. Those are
+  tested on the other axis, and a dense local index matrix of the group gives their pair
+  index (−1: not a candidate, e.g. two obstacles).
+
+The comparisons are the all-pairs test's, on bounds computed with the same operations in the
+same order, so both find the same pairs, bit for bit. With few pairs per member (below
+SWEEP_PAIRS_PER_MEMBER) the plain loop over all pairs is faster and is used instead.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .jit import kernel
+
+SWEEP_PAIRS_PER_MEMBER = 1.5
+"""Sweep and prune replaces the all-pairs loop when the candidate pairs number at least this
+many times the group members (bodies, an obstacle counted once per level it spans). Testing a
+pair costs about 8 ns, sweeping a member about 12 ns, plus a fixed cost per step; the two
+break even near 1.4 pairs per member for the contact step and 1.7 for the hybrid's horizon
+check (docs/bench/crossover.md, `python -m pounding_cli.bench.crossover`). In a row of n
+buildings there are (n − 1)/2 pairs per member: sweep and prune from 4 buildings on."""
+
+# columns of the per-member bounds: lower and upper bound along the group's sweep axis, then
+# along the other axis, m
+LO_SWEEP, HI_SWEEP, LO_OTHER, HI_OTHER = range(4)
+
+
+@kernel(inline="always")
+def reach(body, u, body_floor, body_radius):
+    """(u_x, u_y, how far a rotation can move a vertex) of a body, m."""
+    f = body_floor[body]
+    if f < 0:
+        return 0.0, 0.0, 0.0
+    return u[3 * f], u[3 * f + 1], abs(u[3 * f + 2]) * body_radius[body]
+
+
+@kernel(inline="always")
+def reach_over(body, u, v, acc, horizon, body_floor, body_radius):
+    """A body's displacement (u_x, u_y) and how much farther (along x, along y, by rotation)
+    it can move within `horizon` s from its velocity and acceleration, m."""
+    f = body_floor[body]
+    if f < 0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    half = 0.5 * horizon * horizon
+    grow_x = horizon * abs(v[3 * f]) + half * abs(acc[3 * f])
+    grow_y = horizon * abs(v[3 * f + 1]) + half * abs(acc[3 * f + 1])
+    turn = (abs(u[3 * f + 2]) + horizon * abs(v[3 * f + 2]) + half * abs(acc[3 * f + 2])) * body_radius[body]
+    return u[3 * f], u[3 * f + 1], grow_x, grow_y, turn
+
+
+@kernel(inline="always")
+def _store_bounds(bounds, slot, axis, lo_x, hi_x, lo_y, hi_y):
+    """Bounds of one member along its group's sweep axis (0: x, 1: y) and the other axis."""
+    if axis == 0:
+        bounds[slot, LO_SWEEP] = lo_x
+        bounds[slot, HI_SWEEP] = hi_x
+        bounds[slot, LO_OTHER] = lo_y
+        bounds[slot, HI_OTHER] = hi_y
+    else:
+        bounds[slot, LO_SWEEP] = lo_y
+        bounds[slot, HI_SWEEP] = hi_y
+        bounds[slot, LO_OTHER] = lo_x
+        bounds[slot, HI_OTHER] = hi_x
+
+
+@kernel(inline="always")
+def _displaced_bounds(start, stop, axis, u, group_body, body_floor, body_radius, body_box, bounds):
+    """Members start…stop−1: the displaced box, rest box moved by (u_x, u_y) and widened by
+    |θ|·r (the expressions of the all-pairs test, evaluated in its order)."""
+    for s in range(start, stop):
+        k = group_body[s]
+        dx, dy, r = reach(k, u, body_floor, body_radius)
+        _store_bounds(bounds, s, axis, body_box[k, 0] + dx - r, body_box[k, 2] + dx + r,
+                      body_box[k, 1] + dy - r, body_box[k, 3] + dy + r)  # fmt: skip
+
+
+@kernel(inline="always")
+def _widened_bounds(start, stop, axis, horizon, u, v, acc, group_body, body_floor, body_radius, body_box, bounds):
+    """Members start…stop−1: the displaced box widened further by how far the body can move
+    within `horizon` s. Returns False when a bound is NaN: the sort cannot order it, and the
+    caller answers that a contact may begin (the CDM then takes over and stops a run gone
+    bad at once)."""
+    for s in range(start, stop):
+        k = group_body[s]
+        ux, uy, gx, gy, r = reach_over(k, u, v, acc, horizon, body_floor, body_radius)
+        lo_x = body_box[k, 0] + ux - gx - r
+        hi_x = body_box[k, 2] + ux + gx + r
+        lo_y = body_box[k, 1] + uy - gy - r
+        hi_y = body_box[k, 3] + uy + gy + r
+        if lo_x != lo_x or hi_x != hi_x or lo_y != lo_y or hi_y != hi_y:
+            return False
+        _store_bounds(bounds, s, axis, lo_x, hi_x, lo_y, hi_y)
+    return True
+
+
+@kernel(inline="always")
+def _sort_by_lower_bound(start, stop, order, bounds):
+    """Insertion sort of order[start:stop] (members' local numbers) by their lower bound along
+    the sweep axis: O(members) when the last step's order still nearly holds."""
+    for i in range(start + 1, stop):
+        k = order[i]
+        key = bounds[start + k, LO_SWEEP]
+        j = i - 1
+        while j >= start and bounds[start + order[j], LO_SWEEP] > key:
+            order[j + 1] = order[j]
+            j -= 1
+        order[j + 1] = k
+
+
+@kernel(inline="always")
+def _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, first_only):
+    """Append to hits the pairs of group g (members start…stop−1, sorted) whose boxes overlap
+    on both axes; returns the new count (after the first such pair when first_only)."""
+    m = stop - start
+    base = index_start[g]
+    for i in range(start, stop):
+        a = order[i]
+        hi_a = bounds[start + a, HI_SWEEP]
+        lo_other_a = bounds[start + a, LO_OTHER]
+        hi_other_a = bounds[start + a, HI_OTHER]
+        for j in range(i + 1, stop):
+            b = order[j]
+            if hi_a < bounds[start + b, LO_SWEEP]:
+                break  # b and every member after it start beyond a's end
+            if hi_other_a < bounds[start + b, LO_OTHER] or bounds[start + b, HI_OTHER] < lo_other_a:
+                continue
+            p = index[base + a * m + b]
+            if p >= 0:
+                hits[n_hits] = p
+                n_hits += 1
+                if first_only:
+                    return n_hits
+    return n_hits
+
+
+@kernel(inline="always")
+def _sort_ascending(x, n):
+    """Shell sort of x[:n] in place (gaps 1, 4, 13, …; an insertion sort when n is small)."""
+    gap = 1
+    while gap < n // 3:
+        gap = 3 * gap + 1
+    while gap > 0:
+        for i in range(gap, n):
+            key = x[i]
+            j = i
+            while j >= gap and x[j - gap] > key:
+                x[j] = x[j - gap]
+                j -= gap
+            x[j] = key
+        gap //= 3
+
+
+@kernel(inline="always")
+def pairs_to_visit(u, geometry, broad):
+    """The pairs the contact step must visit, ascending and without repeats, into broad's
+    `hits`; returns their number. They are the pairs whose displaced boxes overlap, plus the
+    pairs in contact at the last step (`live`), whose episodes end when they no longer touch.
+    Every other pair has no overlap now and none at the last step, so visiting it would
+    change nothing."""
+    body_floor = geometry[2]
+    body_radius = geometry[4]
+    body_box = geometry[5]
+    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
+    n_hits = 0
+    for g in range(group_axis.size):
+        start = group_start[g]
+        stop = group_start[g + 1]
+        _displaced_bounds(start, stop, group_axis[g], u, group_body, body_floor, body_radius, body_box, bounds)
+        _sort_by_lower_bound(start, stop, order, bounds)
+        n_hits = _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, False)
+    for i in range(n_live[0]):
+        hits[n_hits] = live[i]
+        n_hits += 1
+    _sort_ascending(hits, n_hits)
+    n_unique = 0
+    for i in range(n_hits):
+        if n_unique == 0 or hits[i] != hits[n_unique - 1]:
+            hits[n_unique] = hits[i]
+            n_unique += 1
+    return n_unique
+
+
+@kernel(inline="always")
+def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
+    """True when some pair's boxes, each widened by how far its body can move within `horizon`
+    s, overlap (sweep and prune: the answer of testing every pair, for any state without NaN;
+    True for one with NaN)."""
+    body_floor = geometry[2]
+    body_radius = geometry[4]
+    body_box = geometry[5]
+    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
+    for g in range(group_axis.size):
+        start = group_start[g]
+        stop = group_start[g + 1]
+        if not _widened_bounds(start, stop, group_axis[g], horizon, u, v, acc, group_body, body_floor, body_radius,
+                               body_box, bounds):  # fmt: skip
+            return True
+        _sort_by_lower_bound(start, stop, order, bounds)
+        if _sweep(start, stop, order, bounds, index, index_start, g, hits, 0, True) > 0:
+            return True
+    return False
+
+
+def pair_groups(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray) -> list[list[int]]:
+    """Candidate pairs grouped by level: floors joined through floor–floor pairs form one group
+    (connected components), and a floor–obstacle pair joins its floor's group. Returns the pair
+    indices of each group, ascending."""
+    parent = {}
+
+    def root(k: int) -> int:
+        parent.setdefault(k, k)
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    for a, b in zip(pair_a.tolist(), pair_b.tolist()):
+        if body_floor[a] >= 0 and body_floor[b] >= 0:
+            parent[root(a)] = root(b)
+    groups: dict[int, list[int]] = {}
+    for p, (a, b) in enumerate(zip(pair_a.tolist(), pair_b.tolist())):
+        groups.setdefault(root(a if body_floor[a] >= 0 or body_floor[b] < 0 else b), []).append(p)
+    return list(groups.values())
+
+
+def sweep_pays(n_pairs: int, n_members: int) -> bool:
+    """Whether sweep and prune is cheaper than testing every pair (SWEEP_PAIRS_PER_MEMBER)."""
+    return n_pairs > 0 and n_pairs >= SWEEP_PAIRS_PER_MEMBER * n_members
+
+
+def sweep_arrays(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray, body_box: np.ndarray,
+                 sweep: bool | None = None) -> tuple[np.ndarray, ...]:  # fmt: skip
+    """The broad phase's arrays, made once per run: (group_start, group_body, group_axis,
+    index_start, index, order, bounds, hits, live, n_live).
+
+    group_body[group_start[g]:group_start[g + 1]] are group g's bodies; group_axis[g] its sweep
+    axis (0: x, 1: y); index[index_start[g]:] its m × m local pair matrix (row-major, −1: no
+    candidate); order the members' local numbers, sorted by lower bound (carried between
+    steps); bounds (members, 4) work space; hits (2·n_pairs) the pairs to visit; live
+    (n_pairs) and n_live (1) the pairs in contact at the last step.
+
+    sweep: True for sweep and prune, False for no groups (the contact kernels then test every
+    pair), None to choose the cheaper (sweep_pays)."""
+    groups = [_group(pairs, pair_a, pair_b, body_box) for pairs in pair_groups(pair_a, pair_b, body_floor)]
+    n_members = sum(len(members) for members, _, _ in groups)
+    if sweep is None:
+        sweep = sweep_pays(pair_a.size, n_members)
+    if not sweep:
+        groups = []
+    sizes = [len(members) for members, _, _ in groups]
+    return (
+        np.cumsum([0] + sizes, dtype=np.int64),
+        np.array([k for members, _, _ in groups for k in members], dtype=np.int64),
+        np.array([axis for _, _, axis in groups], dtype=np.int64),
+        np.cumsum([0] + [m * m for m in sizes], dtype=np.int64),
+        np.concatenate([matrix.ravel() for _, matrix, _ in groups] + [np.zeros(0, dtype=np.int64)]),
+        np.concatenate([_rest_order(members, axis, body_box) for members, _, axis in groups]
+                       + [np.zeros(0, dtype=np.int64)]),  # fmt: skip
+        np.zeros((sum(sizes), 4)),
+        np.zeros(2 * pair_a.size, dtype=np.int64),
+        np.zeros(pair_a.size, dtype=np.int64),
+        np.zeros(1, dtype=np.int64),
+    )
+
+
+def _group(pairs: list[int], pair_a: np.ndarray, pair_b: np.ndarray, body_box: np.ndarray):
+    """(member bodies ascending, local pair matrix, sweep axis) of one group of pairs. The sweep
+    axis is the one along which the members' rest boxes' centres spread more."""
+    members = sorted({int(pair_a[p]) for p in pairs} | {int(pair_b[p]) for p in pairs})
+    local = {k: i for i, k in enumerate(members)}
+    matrix = np.full((len(members), len(members)), -1, dtype=np.int64)
+    for p in pairs:
+        i, j = local[int(pair_a[p])], local[int(pair_b[p])]
+        matrix[i, j] = matrix[j, i] = p
+    box = body_box[members]
+    centre = 0.5 * (box[:, :2] + box[:, 2:])
+    axis = int(np.ptp(centre[:, 1]) > np.ptp(centre[:, 0]))
+    return members, matrix, axis
+
+
+def _rest_order(members: list[int], axis: int, body_box: np.ndarray) -> np.ndarray:
+    """Members' local numbers sorted by their rest boxes' lower bound along the sweep axis."""
+    return np.argsort(body_box[members, axis], kind="stable").astype(np.int64)
