@@ -290,7 +290,7 @@ def bench(
         bool, typer.Option("--stability", help="Run the stability stress cases instead (stability.md).")
     ] = False,
     scaling: Annotated[
-        bool, typer.Option("--scaling", help="Measure cost against 1, 5, 10, 20 buildings in a row (scaling.md).")
+        bool, typer.Option("--scaling", help="Measure cost against 1, 5, 10, 20, 40 buildings in a row (scaling.md).")
     ] = False,
     json_: JsonOpt = False,
 ) -> None:

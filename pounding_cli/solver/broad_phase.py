@@ -39,6 +39,10 @@ break even near 1.4 pairs per member for the contact step and 1.7 for the hybrid
 check (docs/bench/crossover.md, `python -m pounding_cli.bench.crossover`). In a row of n
 buildings there are (n − 1)/2 pairs per member: sweep and prune from 4 buildings on."""
 
+# positions in the tuple of sweep_arrays
+(BR_GROUP_START, BR_GROUP_BODY, BR_GROUP_AXIS, BR_INDEX_START, BR_INDEX, BR_ORDER, BR_BOUNDS, BR_HITS, BR_LIVE,
+ BR_N_LIVE) = range(10)  # fmt: skip
+
 # columns of the per-member bounds: lower and upper bound along the group's sweep axis, then
 # along the other axis, m
 LO_SWEEP, HI_SWEEP, LO_OTHER, HI_OTHER = range(4)

@@ -25,7 +25,16 @@ impact log.
 from __future__ import annotations
 
 import numpy as np
-from .broad_phase import boxes_may_meet_within, pairs_to_visit, reach, reach_over
+from .broad_phase import (
+    BR_GROUP_AXIS,
+    BR_HITS,
+    BR_LIVE,
+    BR_N_LIVE,
+    boxes_may_meet_within,
+    pairs_to_visit,
+    reach,
+    reach_over,
+)
 from .jit import kernel
 
 from .contact_geometry import (
@@ -149,10 +158,10 @@ def contact_forces(
     """
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff = params
-    hits = broad[7]
-    live = broad[8]
-    n_live = broad[9]
-    sweeping = broad[2].size > 0
+    hits = broad[BR_HITS]
+    live = broad[BR_LIVE]
+    n_live = broad[BR_N_LIVE]
+    sweeping = broad[BR_GROUP_AXIS].size > 0
     visits = pairs_to_visit(u, geometry, broad) if sweeping else pair_a.size
     t_now = n * dt
     in_contact = 0
@@ -284,7 +293,7 @@ def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
     """True when some pair's bounding boxes, each widened by how far its body can move within
     `horizon` s (velocity and acceleration now), overlap: a contact may begin that soon.
     With broad's groups by sweep and prune, else by testing every pair (the same answer)."""
-    if broad[2].size > 0:
+    if broad[BR_GROUP_AXIS].size > 0:
         return boxes_may_meet_within(horizon, u, v, acc, geometry, broad)
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a = params[0]

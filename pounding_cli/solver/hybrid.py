@@ -35,6 +35,7 @@ from .cdm import (
     update_peaks,
     write_output,
 )
+from .broad_phase import BR_N_LIVE
 from .contact import contact_possible_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
@@ -181,7 +182,7 @@ def hybrid_advance(
         for d in range(n_dof):
             a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
         if (
-            broad[9][0] == 0  # no pair was in contact at the last step (contact_forces counts them)
+            broad[BR_N_LIVE][0] == 0  # no pair was in contact at the last step (contact_forces counts them)
             and not (has_pairs and contact_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params,
                                                              broad))
             and not (has_members and yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic))
