@@ -22,7 +22,8 @@ from .errors import PoundError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
 out = Console(highlight=False)
-err = Console(stderr=True, highlight=False)
+# messages are never hard-wrapped: a script that greps stderr sees each one on its line
+err = Console(stderr=True, highlight=False, soft_wrap=True)
 
 ModelArg = Annotated[Path, typer.Argument(help="Model file (.toml or .json).", show_default=False)]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON document to stdout instead of tables.")]
@@ -34,7 +35,7 @@ def reported() -> Iterator[None]:
     try:
         yield
     except PoundError as exc:
-        err.print(str(exc), markup=False, soft_wrap=True)
+        err.print(str(exc), markup=False)
         raise typer.Exit(exc.exit_code) from None
     except KeyboardInterrupt:
         err.print("interrupted", markup=False)
@@ -420,7 +421,7 @@ def report(
                                                 magnify, animation)  # fmt: skip
     for source, warning, _ in blocks:
         if warning:
-            err.print(f"{source}: {warning}", markup=False, soft_wrap=True)
+            err.print(f"{source}: {warning}", markup=False)
     if written.frames is not None:
         err.print(f"{animate}: {written.frames} frames of {paths[0]}" + (" (the first file)" if len(paths) > 1 else ""),
                   markup=False)  # fmt: skip
