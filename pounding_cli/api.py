@@ -252,6 +252,7 @@ def execute(
     response = simulate(
         system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
         contact=scene.contact if scene.contact.n_pairs else None, substep=grid.substep,
+        yield_substep=grid.yield_substep,
     )  # fmt: skip
     diagnostics = {
         "integrator": "hybrid (exact propagation, central difference around contacts)"
@@ -259,6 +260,7 @@ def execute(
         else "central difference",
         "dt": grid.dt,
         "substep": grid.dt * grid.substep,
+        "yield_dt": grid.yield_dt,
         "exact_substeps": response.exact_substeps,
         "cdm_steps": response.cdm_steps,
         "switches": response.switches,

@@ -9,6 +9,13 @@ boxes widened by what velocity and acceleration can add), the loop hands the sta
 CDM of cdm.py at the contact time step Δt = h/sub; it takes the state back at a substep
 boundary once every pair is out of contact and apart by more than 4h of motion.
 
+Yielding members need the CDM too (their stiffness changes), but not the contact's step:
+when a member may yield within 2h and no contact is possible, the CDM runs at the yielding
+step h/sub_y (the structure's own fraction of its stability limit, often 10–50× the contact
+step); it hands the state back at a substep boundary when a contact may begin within 2h (to
+re-enter at the contact step) or when no member can yield within 4h. A change of step goes
+through the exact state at the boundary: the two hand-overs below, back to back.
+
 Hand-over (both second-order consistent):
 - exact → CDM at t_k: v_{k−½} = v_k − (Δt/2)·a_k, with a_k from the equation of motion
   (no contact force: none is possible yet); C·v_{k−½} and K·u_k from the storey kernel.
@@ -40,7 +47,7 @@ from .contact import contact_possible_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
 
-MODE_EXACT, MODE_CDM = 0, 1
+MODE_EXACT, MODE_CDM, MODE_CDM_YIELD = 0, 1, 2  # exact; CDM at the contact step; CDM at the yielding step
 ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
 LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
 # counters
@@ -90,7 +97,7 @@ def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, 
 
 @kernel
 def hybrid_advance(
-    k_start, k_stop, h, sub, stride_h, u_limit,
+    k_start, k_stop, h, sub, sub_y, binv_y, stride_h, u_limit,
     # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
     # everything cdm.advance takes after its first five arguments
@@ -104,12 +111,15 @@ def hybrid_advance(
     members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
     """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
+    The CDM takes sub steps per substep around contacts, sub_y (with the step matrices
+    binv_y) where only yielding members need it.
 
     Yielding members: exact propagation holds while they are elastic, about the static
     offset u_static = K⁻¹·g of their plastic deflections (M·ẅ + C·ẇ + K·w = p for
     w = u − u_static); the CDM takes over while any member may reach its yield surface
     within the horizon, as around contacts."""
     dt = h / sub
+    dt_y = h / sub_y
     n_dof = mass.size
     has_pairs = params[0].size > 0
     has_members = plastic.shape[0] > 0
@@ -142,9 +152,10 @@ def hybrid_advance(
                                       e_plastic)  # fmt: skip
                 if status != STATUS_OK:
                     return status, k
+            contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
+                                                                 params, broad)  # fmt: skip
             if not (
-                (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params,
-                                                     broad))
+                contact_soon
                 or (has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
                                                                           members, plastic)))  # fmt: skip
             ):
@@ -157,18 +168,23 @@ def hybrid_advance(
                         u[d] += u_static[d]
                 counters[CNT_EXACT] += 1
                 continue
-            # a contact may begin soon: hand the state to the CDM at t_k
+            # a contact may begin soon, or a member yield: hand the state to the CDM at t_k
+            mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
+            step = dt if contact_soon else dt_y
             for d in range(n_dof):
-                v_half[d] = v_exact[d] - 0.5 * dt * a_rel[d]
-                dv[d] = dt * a_rel[d]
+                v_half[d] = v_exact[d] - 0.5 * step * a_rel[d]
+                dv[d] = step * a_rel[d]
             storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
             damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_half)
             acc[ACC_FRESH] = 1.0  # t_k is already integrated
-            mode[0] = MODE_CDM
             counters[CNT_SWITCHES] += 1
-        # CDM through this substep
-        status, _ = advance(k * sub, (k + 1) * sub, dt, stride_h * sub, u_limit,
-                            mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+        # CDM through this substep, at the contact step or at the yielding step
+        if mode[0] == MODE_CDM:
+            step, steps, step_matrix = dt, sub, binv
+        else:
+            step, steps, step_matrix = dt_y, sub_y, binv_y
+        status, _ = advance(k * steps, (k + 1) * steps, step, stride_h * steps, u_limit,
+                            mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
                             peak_col, peak_rot, peak_disp, peak_acc,
@@ -176,22 +192,24 @@ def hybrid_advance(
                             r, dv, v, a_abs, z, cv_next, storey_work,
                             geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
                             members, plastic, g, out_member, peak_member)  # fmt: skip
-        counters[CNT_CDM] += sub
+        counters[CNT_CDM] += steps
         if status != STATUS_OK:
             return status, k
         for d in range(n_dof):
-            a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
-        if (
-            broad[BR_N_LIVE][0] == 0  # no pair was in contact at the last step (contact_forces counts them)
-            and not (has_pairs and contact_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params,
-                                                             broad))
-            and not (has_members and yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic))
-        ):
+            a_rel[d] = dv[d] / step  # the CDM's acceleration at the last step
+        if mode[0] == MODE_CDM:  # leave once no contact is possible; the exact branch then decides
+            leave = broad[BR_N_LIVE][0] == 0 and not contact_possible_within(  # (contact_forces counts live pairs)
+                LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params, broad)  # fmt: skip
+        else:  # leave when a contact may begin (to come back at the contact step) or nothing can yield
+            leave = (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_half, a_rel, geometry, params,
+                                                           broad)) or not yield_possible_within(  # fmt: skip
+                LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic)
+        if leave:
             if has_members:
                 plastic_correction(members, plastic, g)
                 solve_blocks(kinv, dof_start, dof_count, g, u_static)
-            _leave_cdm((k + 1) * h, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
-                       storey_k, storey_bottom, storey_top, binv, dof_start, dof_count, ground, ground_dt,
+            _leave_cdm((k + 1) * h, step, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
+                       storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count, ground, ground_dt,
                        acc, cv_next, g)  # fmt: skip
             mode[0] = MODE_EXACT
             counters[CNT_SWITCHES] += 1

@@ -232,6 +232,7 @@ def simulate(
     initial_velocity: np.ndarray | None = None,
     substep: int = 0,
     sweep: bool | None = None,
+    yield_substep: int = 0,
 ) -> Response:
     """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
 
@@ -239,6 +240,8 @@ def simulate(
     propagation over substeps of s·dt while no contact is possible, the CDM at dt around
     contacts (n_steps and stride must then be multiples of s, and s·dt must divide
     ground_dt so that the ground acceleration is linear within each substep).
+    yield_substep = s_y (1 ≤ s_y ≤ s; 0: s): the hybrid's CDM takes s_y steps per substep
+    where only yielding members need it (no contact possible).
     The structure starts undeformed, at rest or with `initial_velocity` (n_dof,) relative to
     the ground, and out of contact. The contact broad phase sweeps and prunes (sweep=True) or
     tests every pair (False); None chooses the cheaper for the scene (broad_phase.sweep_pays).
@@ -315,6 +318,8 @@ def simulate(
         blocks = stiffness_blocks(structure)
         phi, g0, g1 = building_propagators(blocks, structure.mass, structure.dof_a0, structure.dof_a1, starts, counts, h)
         kinv = inverse_blocks(blocks, counts) if n_members else kinv
+        sub_y = yield_substep if 0 < yield_substep < substep else substep
+        binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
                       np.zeros(2 * phi.shape[1]), np.zeros(2 * phi.shape[1]), np.zeros(1, dtype=np.int64), counters,
@@ -322,7 +327,7 @@ def simulate(
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            return hybrid.hybrid_advance(start, stop, h, substep, stride // substep, DIVERGENCE_LIMIT,
+            return hybrid.hybrid_advance(start, stop, h, substep, sub_y, binv_y, stride // substep, DIVERGENCE_LIMIT,
                                          *exact_args, *cdm_args)  # fmt: skip
     else:
         unit, total = 1, n_steps
