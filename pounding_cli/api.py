@@ -86,8 +86,9 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     contact = contact_arrays(loaded, system.buildings)
     ground = ground_motion(loaded)
     grid = time_grid(
-        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt
-    )
+        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt,
+        yielding=system.members.top.size > 0,
+    )  # fmt: skip
     if grid.n_steps > MAX_STEPS:
         raise InputError(
             f"the analysis would take {grid.n_steps:.3g} steps of {grid.dt:.3g} s (ω_max = "

@@ -111,7 +111,7 @@ def test_failed_run_exits_1_and_keeps_marked_file(tmp_path, monkeypatch):
     from pounding_cli import api
     from pounding_cli.assembly import TimeGrid
 
-    def unstable(analysis, omega_max, duration, *args):
+    def unstable(analysis, omega_max, duration, *args, **kwargs):
         limit = 2 / omega_max
         return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
 

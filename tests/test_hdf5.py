@@ -102,7 +102,7 @@ def test_diverged_run_is_written_and_marked(tmp_path, monkeypatch):
     from pounding_cli import api
     from pounding_cli.assembly import TimeGrid
 
-    def beyond_the_limit(analysis, omega_max, duration, *args):
+    def beyond_the_limit(analysis, omega_max, duration, *args, **kwargs):
         limit = 2 / omega_max
         return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
 

@@ -40,7 +40,7 @@ def failed_h5(tmp_path_factory):
     from pounding_cli import api
     from pounding_cli.assembly import TimeGrid
 
-    def unstable(analysis, omega_max, duration, *args):
+    def unstable(analysis, omega_max, duration, *args, **kwargs):
         limit = 2 / omega_max
         return TimeGrid(dt=1.05 * limit, stride=1, n_steps=int(duration / limit), stability_limit=limit)
 

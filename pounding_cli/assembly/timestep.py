@@ -1,10 +1,11 @@
 """The time grid of an analysis: step, output stride, number of steps, and the substeps of
 the hybrid integrator.
 
-The central difference method (CDM) is stable for Δt < 2/ω_max. `dt = "auto"` takes
-AUTO_DT_FRACTION of that limit (accuracy, not stability, sets the fraction: see
-docs/theory.md). With contact candidates, ω_max is the larger of the structure's highest
-frequency and the contact estimate of pounding_cli.assembly.contact.contact_omega.
+The central difference method (CDM) is stable for Δt < 2/ω_max. `dt = "auto"` takes the
+finest of what each part of the scene needs for accuracy (stability needs far less; see
+docs/theory.md §6): AUTO_DT_FRACTION of the structure's limit 2/ω_max for linear buildings,
+YIELD_DT_FRACTION of it with yielding members, CONTACT_DT_FRACTION of the contact's limit
+2/ω_contact (pounding_cli.assembly.contact.contact_omega) where contact is possible.
 
 The hybrid integrator (the default) advances the buildings exactly over substeps h while no
 contact is possible: h divides the record's sample interval (so the ground acceleration is
@@ -26,7 +27,14 @@ from ..errors import InputError
 from ..model import Analysis
 
 AUTO_DT_FRACTION = 0.05
-"""Δt_auto = AUTO_DT_FRACTION · 2/ω_max."""
+"""Δt_auto = AUTO_DT_FRACTION · 2/ω_max for linear buildings without contact: the CDM's
+error is second order, 1e-4 on peaks at this fraction (docs/validation.md)."""
+
+CONTACT_DT_FRACTION = 0.0125
+"""Δt_auto ≤ CONTACT_DT_FRACTION · 2/ω_contact where contact is possible. Impacts amplify
+small differences (which floors graze, when a contact starts to slide), so peaks converge
+slowly in Δt: at 0.05 the paper's Kobe example was 14–35 % off a converged run in its storey
+twists (frictionless or μ_s = μ_k), at 0.0125 0.4–6 % (docs/bench.md, "Accuracy")."""
 
 YIELD_DT_FRACTION = 0.0125
 """The hybrid's CDM step while only yielding members need it: YIELD_DT_FRACTION · 2/ω_max of
@@ -86,11 +94,15 @@ def time_grid(
     source: str = "",
     omega_contact: float = 0.0,
     record_dt: float | None = None,
-    dt_fraction: float = AUTO_DT_FRACTION,
+    dt_fraction: float | None = None,
     sampling: float = HYBRID_SAMPLING,
+    yielding: bool = False,
+    dt_scale: float = 1.0,
 ) -> TimeGrid:
-    """Choose the integrator, Δt, the output stride and the step count for an analysis
-    (dt_fraction and sampling: the defaults' knobs, for `pound bench`)."""
+    """Choose the integrator, Δt, the output stride and the step count for an analysis.
+    yielding: the structure has yielding members. For `pound bench`: dt_fraction replaces the
+    automatic rule by dt_fraction · 2/ω_max (structure or contact, the smaller limit);
+    dt_scale scales every automatic step; sampling sets the hybrid's substeps."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
     if analysis.dt != "auto" and float(analysis.dt) >= limit:
@@ -101,7 +113,14 @@ def time_grid(
             file=source or None,
             field="analysis.dt",
         )
-    target = dt_fraction * min(limit, contact_limit) if analysis.dt == "auto" else float(analysis.dt)
+    auto = analysis.dt == "auto" and dt_fraction is None
+    structure_fraction = YIELD_DT_FRACTION if yielding else AUTO_DT_FRACTION
+    if analysis.dt != "auto":
+        target = float(analysis.dt)
+    elif dt_fraction is not None:
+        target = dt_fraction * min(limit, contact_limit)
+    else:
+        target = dt_scale * min(structure_fraction * limit, CONTACT_DT_FRACTION * contact_limit)
     duration = analysis.duration if analysis.duration is not None else record_duration
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)
@@ -111,10 +130,10 @@ def time_grid(
         dt = h / sub
         stride = stride_h * sub
         # yielding without contact: the structure's own limit (a given Δt holds everywhere)
-        sub_y = min(sub, max(1, math.ceil(h / (YIELD_DT_FRACTION * limit) - 1e-9))) if analysis.dt == "auto" else sub
+        sub_y = min(sub, max(1, math.ceil(h / (dt_scale * YIELD_DT_FRACTION * limit) - 1e-9))) if auto else sub
     else:
         sub = sub_y = 0
-        if analysis.dt == "auto":
+        if analysis.dt == "auto":  # the output interval a whole number of steps
             stride = max(1, math.ceil(out / target - 1e-9))
             dt = out / stride
         else:

@@ -97,7 +97,7 @@ def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, 
 
 @kernel
 def hybrid_advance(
-    k_start, k_stop, h, sub, sub_y, binv_y, stride_h, u_limit,
+    k_start, k_stop, k_end, h, sub, sub_y, binv_y, stride_h, u_limit,
     # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
     # everything cdm.advance takes after its first five arguments
@@ -111,6 +111,8 @@ def hybrid_advance(
     members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
     """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
+    At k = k_end, the end of the analysis, only the state at t_k is taken (output, peaks):
+    nothing is integrated past it.
     The CDM takes sub steps per substep around contacts, sub_y (with the step matrices
     binv_y) where only yielding members need it.
 
@@ -152,6 +154,8 @@ def hybrid_advance(
                                       e_plastic)  # fmt: skip
                 if status != STATUS_OK:
                     return status, k
+            if k == k_end:
+                return STATUS_OK, k + 1
             contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
                                                                  params, broad)  # fmt: skip
             if not (
@@ -183,7 +187,8 @@ def hybrid_advance(
             step, steps, step_matrix = dt, sub, binv
         else:
             step, steps, step_matrix = dt_y, sub_y, binv_y
-        status, _ = advance(k * steps, (k + 1) * steps, step, stride_h * steps, u_limit,
+        last = k * steps + 1 if k == k_end else (k + 1) * steps  # at the end: the state at t_k only
+        status, _ = advance(k * steps, last, step, stride_h * steps, u_limit,
                             mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
@@ -192,9 +197,11 @@ def hybrid_advance(
                             r, dv, v, a_abs, z, cv_next, storey_work,
                             geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
                             members, plastic, g, out_member, peak_member)  # fmt: skip
-        counters[CNT_CDM] += steps
         if status != STATUS_OK:
             return status, k
+        if k == k_end:
+            return STATUS_OK, k + 1
+        counters[CNT_CDM] += steps
         for d in range(n_dof):
             a_rel[d] = dv[d] / step  # the CDM's acceleration at the last step
         if mode[0] == MODE_CDM:  # leave once no contact is possible; the exact branch then decides

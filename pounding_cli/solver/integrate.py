@@ -327,14 +327,14 @@ def simulate(
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            return hybrid.hybrid_advance(start, stop, h, substep, sub_y, binv_y, stride // substep, DIVERGENCE_LIMIT,
+            return hybrid.hybrid_advance(start, stop, total, h, substep, sub_y, binv_y, stride // substep, DIVERGENCE_LIMIT,
                                          *exact_args, *cdm_args)  # fmt: skip
     else:
         unit, total = 1, n_steps
 
         def advance(start: int, stop: int) -> tuple[int, int]:
             status, done = cdm.advance(start, stop, dt, stride, DIVERGENCE_LIMIT, *cdm_args)
-            counters[hybrid.CNT_CDM] += done - start
+            counters[hybrid.CNT_CDM] += min(done, total) - start  # the pass at t_N ends the run: not a step
             return status, done
 
     chunk = max(1, chunk // unit)
