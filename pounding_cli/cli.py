@@ -102,7 +102,7 @@ def run(
     ] = None,
     json_: JsonOpt = False,
     progress: Annotated[
-        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
+        bool | None, typer.Option("--progress/--no-progress", help="Progress on stderr: a bar on a terminal, else a line per 10 % (default: on when stderr is a terminal).")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists.")] = False,
 ) -> None:
@@ -471,8 +471,13 @@ def _sweep_report(folder, column, plots, fmt, html, x, ys, cases, studies):
 
 @contextmanager
 def _progress_bar(show: bool) -> Iterator[Any]:
+    """The progress callback of a run: a rich bar when stderr is a terminal; otherwise (a log
+    file, a pipe, a batch job that asked for --progress) one plain line per tenth done."""
     if not show:
         yield None
+        return
+    if not err.is_terminal:
+        yield _progress_lines()
         return
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
@@ -486,6 +491,21 @@ def _progress_bar(show: bool) -> Iterator[Any]:
             bar.update(task, completed=done, total=total)
 
         yield update
+
+
+def _progress_lines(step: int = 10) -> Any:
+    """A progress callback that prints "integrating: 40 %" on stderr each time another `step`
+    per cent is done (a line a reader of a log can follow, with no terminal codes)."""
+    shown = [-1]
+
+    def update(done: int, total: int) -> None:
+        percent = 100 * done // max(total, 1)
+        if percent // step > shown[0]:
+            shown[0] = percent // step
+            err.print(f"integrating: {step * shown[0]} %", markup=False)
+            err.file.flush()
+
+    return update
 
 
 def run_summary(result: Any) -> dict[str, Any]:

@@ -64,6 +64,28 @@ def test_run_subprocess_writes_file_and_json(tmp_path):
         assert f.attrs["status"] == "complete"
 
 
+def test_progress_on_a_pipe_when_asked(tmp_path):
+    """--progress with stderr a pipe (a log file, a batch job): plain lines on stderr, one per
+    tenth done, ending at 100 %, and no terminal codes; without it a pipe gets none."""
+    r = pound_cmd("run", EXAMPLE, "-o", tmp_path / "a.h5", "--progress")
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in r.stderr.splitlines() if ln.startswith("integrating:")]
+    percents = [int(ln.split()[1]) for ln in lines]
+    assert percents == sorted(set(percents)) and len(percents) >= 5, r.stderr
+    assert percents[-1] == 100 and all(p % 10 == 0 for p in percents)
+    assert "\x1b" not in r.stderr
+    quiet = pound_cmd("run", EXAMPLE, "-o", tmp_path / "b.h5")
+    assert quiet.returncode == 0, quiet.stderr
+    assert "integrating" not in quiet.stderr
+
+
+def test_progress_in_process_when_asked(tmp_path):
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(tmp_path / "a.h5"), "--progress"])
+    assert r.exit_code == 0, r.output
+    assert "integrating: 100 %" in r.stderr.splitlines()
+    assert "integrating" not in r.stdout
+
+
 def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
     """`pound run --json` and the printed summary give, per kind of yielding member, how many
     yielded and the one of largest ductility, as the file's /buildings/<b>/yielding says."""
