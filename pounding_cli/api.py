@@ -31,6 +31,7 @@ from .assembly import (
     ground_motion,
     time_grid,
 )
+from .assembly.timestep import stability_limit
 from .errors import InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
@@ -162,6 +163,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "a1_s": bld.rayleigh[1],
                 },
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
+                "dt_limit_s": stability_limit(float(bld.modes.omega[-1])),
             }
         )
     contact = scene.contact
@@ -186,6 +188,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "friction_static": m.contact.friction_static,
             "friction_kinetic": m.contact.friction_kinetic,
             "omega_max_rad_s": contact.omega_max,
+            "dt_limit_s": grid.contact_limit if contact.n_pairs else None,
         },
         "excitation": {
             "record": ground.record.name if ground.record is not None else "",
@@ -207,14 +210,17 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
         "analysis": {
             "integrator": grid.integrator,
             "dt_s": grid.dt,
-            "substep_s": grid.dt * grid.substep,
             "dt_auto": m.analysis.dt == "auto",
             "dt_auto_fraction": AUTO_DT_FRACTION,
+            "dt_limited_by": "contact" if grid.contact_limit < grid.stability_limit else "structure",
             "stability_limit_s": grid.stability_limit,
             "contact_limit_s": grid.contact_limit if scene.contact.n_pairs else None,
+            "substep_s": grid.dt * grid.substep if grid.substep else None,
+            "cdm_steps_per_substep": grid.substep or None,
+            "steps": grid.n_steps // grid.substep if grid.substep else grid.n_steps,
+            "steps_of_dt": grid.n_steps,
             "output_interval_s": grid.output_interval,
             "duration_s": grid.duration,
-            "steps": grid.n_steps,
             "outputs": grid.n_outputs,
         },
     }
@@ -243,6 +249,27 @@ def where_it_failed(system: System, dof: int) -> str:
     return f"first at building {system.buildings[b].name!r}, floor {level} ({('u_x', 'u_y', 'θ')[dof % 3]})"
 
 
+def steps_within_span(response: Any, grid: TimeGrid) -> tuple[int, int]:
+    """(exact substeps, CDM steps) a run took, counting only the steps within its span.
+
+    The solver's loop visits the grid's time points t_0 … t_N, and at each takes the step to
+    the next one: N + 1 steps, the last past the end (its result unused). Its counters hold
+    them all; a complete run of N steps reports N. The hybrid took that last visit as one
+    exact substep or as one substep of CDM steps: it starts exact and each switch toggles, so
+    an odd number of switches means it ended in the CDM. (Should the last substep have gone
+    into the CDM and back, the exact/CDM split is one substep off; their sum is right.)
+    Failed runs and counts that do not hold the extra step are returned as they are.
+    """
+    exact, cdm = response.exact_substeps, response.cdm_steps
+    if response.status != "complete":
+        return exact, cdm
+    if not grid.substep:
+        return (exact, cdm - 1) if (exact, cdm) == (0, grid.n_steps + 1) else (exact, cdm)
+    if exact * grid.substep + cdm != grid.n_steps + grid.substep:
+        return exact, cdm
+    return (exact, cdm - grid.substep) if response.switches % 2 else (exact - 1, cdm)
+
+
 def execute(
     scene: Scene, output: str | Path | None = None, progress: Callable[[int, int], None] | None = None
 ) -> RunResult:
@@ -253,19 +280,18 @@ def execute(
         system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
         contact=scene.contact if scene.contact.n_pairs else None, substep=grid.substep,
     )  # fmt: skip
+    exact_substeps, cdm_steps = steps_within_span(response, grid)
     diagnostics = {
-        "integrator": "hybrid (exact propagation, central difference around contacts)"
-        if grid.substep
-        else "central difference",
+        "integrator": grid.integrator,
         "dt": grid.dt,
         "substep": grid.dt * grid.substep,
-        "exact_substeps": response.exact_substeps,
-        "cdm_steps": response.cdm_steps,
+        "exact_substeps": exact_substeps,
+        "cdm_steps": cdm_steps,
         "switches": response.switches,
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,
         "output_interval": grid.output_interval,
-        "steps": response.steps,
+        "steps": exact_substeps + cdm_steps,
         "contact_steps": response.contact_steps,
         "contact_pairs": scene.contact.n_pairs,
         "impacts": response.events_total,
@@ -273,7 +299,7 @@ def execute(
         "n_dof": system.n_dof,
         "wall_time_s": response.wall_time,
         "compile_time_s": response.compile_time,
-        "us_per_step": 1e6 * response.wall_time / max(response.steps, 1),
+        "us_per_step": 1e6 * response.wall_time / max(exact_substeps + cdm_steps, 1),
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }

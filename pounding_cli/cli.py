@@ -15,13 +15,16 @@ from typing import Annotated, Any, Iterator
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from . import __version__
 from .errors import PoundError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
-out = Console(highlight=False)
+# plain lines are never hard-wrapped (a script reading stdout sees each one on its line);
+# tables are printed with soft_wrap=False, at the console's width
+out = Console(highlight=False, soft_wrap=True)
 # messages are never hard-wrapped: a script that greps stderr sees each one on its line
 err = Console(stderr=True, highlight=False, soft_wrap=True)
 
@@ -72,8 +75,10 @@ def main_options(
 
 @app.command(
     help="Check a model and print what it resolves to.\n\n"
-    "Masses, periods and participating mass, Rayleigh coefficients, the record and the "
-    "time step; --json prints the same as one JSON document."
+    "Per building: floor masses, periods and participating mass, Rayleigh coefficients and "
+    "its time-step limit; the contact candidates and their limit; the record; the time step, "
+    "which limit sets it and the steps the integrator will take. --json prints the same as one "
+    "JSON document."
 )
 def validate(model: ModelArg, json_: JsonOpt = False) -> None:
     """Check a model and print what it resolves to."""
@@ -436,7 +441,7 @@ def report(
         if warning:
             out.print(f"[bold red]{warning}[/bold red]")
         for spec in tables:
-            out.print(rich_table(spec))
+            out.print(rich_table(spec), soft_wrap=False)
 
 
 def _run_report(paths, column, plots, fmt, html, floors, magnify, animation):
@@ -535,8 +540,9 @@ def run_summary(result: Any) -> dict[str, Any]:
         "output": str(result.output) if result.output else None,
         "input_sha256": result.input_sha256,
         "duration_s": float(result.time[-1]) if result.time.size else 0.0,
-        "integrator": d.get("integrator", "").split(" ")[0],
+        "integrator": d.get("integrator"),
         "dt_s": d.get("dt"),
+        "substep_s": d.get("substep") or None,
         "steps": d.get("steps"),
         "exact_substeps": d.get("exact_substeps", 0),
         "cdm_steps": d.get("cdm_steps", 0),
@@ -579,16 +585,21 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
 
 
 def _print_summary(s: dict[str, Any]) -> None:
-    out.print(f"[bold]{s['status']}[/bold]  →  {s['output']}")
+    out.print(f"[bold]{escape(s['status'])}[/bold]  →  {escape(str(s['output']))}")
+    if s["integrator"] == "hybrid":
+        how = (f"hybrid: {s['exact_substeps']:,} exact substeps of {s['substep_s']:.4g} s, "
+               f"{s['cdm_steps']:,} CDM steps of {s['dt_s']:.4g} s")  # fmt: skip
+    else:
+        how = f"{s['integrator']}, Δt = {s['dt_s']:.4g} s"
     out.print(
-        f"{s['duration_s']:.2f} s simulated in {s['steps']} steps ({s['integrator']}); "
+        f"{s['duration_s']:.2f} s simulated in {s['steps']:,} steps ({how}); "
         f"solver {s['solver_wall_time_s']:.3f} s ({s['us_per_step']:.2f} µs/step); "
         f"energy balance error {100 * s['energy_balance_error']:.3g} % of input",
         markup=False,
     )
     out.print(
         f"impacts: {s['impacts']}" + (f", peak normal force {s['peak_impact_force_N'] / 1e3:.4g} kN, "
-        f"{s['contact_steps']} steps in contact" if s["impacts"] else ""),
+        f"{s['contact_steps']:,} steps in contact" if s["impacts"] else ""),
         markup=False,
     )  # fmt: skip
     table = Table(title="Peak interstorey deflection (building axes)")
@@ -601,7 +612,7 @@ def _print_summary(s: dict[str, Any]) -> None:
             where = f"{p['column']}, storey {p['storey']}" if p and "column" in p else f"storey {p['storey']}" if p else ""
             cells.append(f"{scale * p['value']:.3g} ({where})" if p else "-")
         table.add_row(b["name"], *cells)
-    out.print(table)
+    out.print(table, soft_wrap=False)
     for b in s["buildings"]:
         for group in b.get("yielding", []):
             w = group["largest_ductility"]
@@ -613,27 +624,43 @@ def _print_summary(s: dict[str, Any]) -> None:
             )
 
 
+def _floor_groups(b: dict[str, Any]) -> list[str]:
+    """'floors 1-4: m = 64 t, J = 6.827e+05 kg·m²', one line per run of alike floors."""
+    rows = list(zip(b["floor_masses_kg"], b["rotational_inertia_kgm2"]))
+    lines, first = [], 0
+    for i in range(1, len(rows) + 1):
+        if i == len(rows) or rows[i] != rows[first]:
+            which = f"floor {first + 1}" if i == first + 1 else f"floors {first + 1}-{i}"
+            lines.append(f"{which}: m = {rows[first][0] / 1e3:.6g} t, J = {rows[first][1]:.4g} kg·m²")
+            first = i
+    return lines
+
+
 def _print_description(info: dict[str, Any]) -> None:
-    out.print(f"[bold]{info['title'] or info['file']}[/bold]")
+    out.print(f"[bold]{escape(info['title'] or info['file'])}[/bold]")
     for b in info["buildings"]:
         storeys = f"{b['storeys']} storey" + ("s" if b["storeys"] != 1 else "")
-        out.print(f"[bold]building {b['name']}[/bold]: {storeys}, {b['height_m']:g} m, "
+        out.print(f"[bold]building {escape(b['name'])}[/bold]: {storeys}, {b['height_m']:g} m, "
                   f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines"
                   + (f" ({b['yielding_columns']} yielding column instances)" if b["yielding_columns"] else "")
                   + (f"; base-isolated on {b['isolators']} isolators (storey 1, floor 1 = base slab)"
                      if b["isolators"] else ""))  # fmt: skip
+        for line in _floor_groups(b):
+            out.print(f"  {line}", markup=False)
         table = Table()
         for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
             table.add_column(col, justify="right")
         for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):
             table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p))
-        out.print(table)
+        out.print(table, soft_wrap=False)
         r = b["rayleigh"]
         out.print(
             f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}"
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
             markup=False,
         )
+        out.print(f"  Δt limit (CDM): 2/ω_max = {b['dt_limit_s']:.4g} s (ω_max = {b['omega_max_rad_s']:.4g} rad/s)",
+                  markup=False)  # fmt: skip
     c = info["contact"]
     if not c["enabled"]:
         out.print("contact: off", markup=False)
@@ -648,6 +675,8 @@ def _print_description(info: dict[str, Any]) -> None:
             f"μ_k = {c['friction_kinetic']:g}",
             markup=False,
         )
+        out.print(f"  Δt limit (CDM, in contact): 2/ω_contact = {c['dt_limit_s']:.4g} s (ω_contact = "
+                  f"{c['omega_max_rad_s']:.4g} rad/s, an upper estimate)", markup=False)  # fmt: skip
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
@@ -657,22 +686,39 @@ def _print_description(info: dict[str, Any]) -> None:
     )
     for note in e["notes"]:
         out.print(f"  note: {note}", markup=False)
-    a = info["analysis"]
-    how = f"auto: {a['dt_auto_fraction']:g} × 2/ω_max" if a["dt_auto"] else "given"
-    limits = f"stability limit {a['stability_limit_s']:.4g} s"
-    if a.get("contact_limit_s"):
-        limits += f", contact {a['contact_limit_s']:.4g} s"
+    _print_analysis(info["analysis"], info["buildings"])
+
+
+def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
+    """The time grid: which limit sets Δt, and the steps the integrator takes."""
+    stiffest = min(buildings, key=lambda b: b["dt_limit_s"])["name"]
+    structure = f"{a['stability_limit_s']:.4g} s, building {stiffest}"
+    contact = f"{a['contact_limit_s']:.4g} s" if a["contact_limit_s"] else None
+    fraction = f"{a['dt_auto_fraction']:g}"
+    if not a["dt_auto"]:
+        why = f"given — below the structure's limit 2/ω_max ({structure})"
+        if contact:
+            above = a["dt_s"] >= a["contact_limit_s"]
+            why += f"; {'above' if above else 'below'} the contact's 2/ω_contact ({contact})"
+            why += ": impacts may go unstable" if above else ""
+    elif a["dt_limited_by"] == "contact":
+        why = f"auto, {fraction} × 2/ω_contact — the contact limit governs ({contact}; the structure's: {structure})"
+    else:
+        why = f"auto, {fraction} × 2/ω_max — the structure's limit governs ({structure}"
+        why += f"; the contact's: {contact})" if contact else "; no contact candidates)"
+    if a["dt_auto"]:
+        why += ", shortened to " + ("divide the substep" if a["integrator"] == "hybrid" else "fit the output interval")
+    out.print(f"analysis: {a['duration_s']:g} s, output every {a['output_interval_s']:g} s", markup=False)
+    out.print(f"  Δt = {a['dt_s']:.4g} s: {why}", markup=False)
     if a["integrator"] == "hybrid":
         out.print(
-            f"integrator: hybrid — exact substeps of {a['substep_s']:.4g} s while no contact is possible, "
-            f"the central difference method at Δt below",
+            f"  integrator: hybrid — {a['steps']:,} exact substeps of {a['substep_s']:.4g} s while no contact is "
+            f"possible; the CDM at Δt where one is ({a['cdm_steps_per_substep']:,} steps per substep; "
+            f"{a['steps_of_dt']:,} steps of Δt would span the whole {a['duration_s']:g} s)",
             markup=False,
         )
-    out.print(
-        f"analysis: Δt = {a['dt_s']:.4g} s ({how}; {limits}), "
-        f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
-        markup=False,
-    )
+    else:
+        out.print(f"  integrator: cdm — the central difference method, {a['steps']:,} steps of Δt", markup=False)
 
 
 def _print_record(s: dict[str, Any]) -> None:
@@ -705,7 +751,7 @@ def _print_record(s: dict[str, Any]) -> None:
     ]
     for label, cell in rows:
         table.add_row(label, *(cell(c) for c in s["components"]))
-    out.print(table)
+    out.print(table, soft_wrap=False)
     if s["scale_factor"] != 1.0:
         out.print(f"scale factor: {s['scale_factor']:.6g}", markup=False)
     for note in s["notes"]:
