@@ -369,7 +369,7 @@ def model_fields_markdown() -> str:
         "`damping = { ratios = [0.05, 0.05], modes = [1, 3] }`.",
         "",
         "Checks that involve several fields (exactly one of `mass` and `mass_per_area`, "
-        "columns under the slab, names that must match, …) are described in the "
+        "columns under the slab, the mass centre on it, names that must match, …) are described in the "
         "[user guide](../user-guide.md#concepts).",
         "",
         "| Section | TOML | Path in error messages |",

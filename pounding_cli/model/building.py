@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
@@ -145,7 +145,8 @@ class Floor(Strict):
     """Floor mass per slab area, kg/m², 0.01 to 1e9 (the paper uses 1000). Give this or mass."""
 
     eccentricity: tuple[Real, Real] = (0.0, 0.0)
-    """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes."""
+    """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes. The
+    mass centre must lie on the slab (the floor's mass does)."""
 
     rotational_inertia: Annotated[Positive, Field(ge=1e-3, le=1e18)] | None = None
     """Mass moment of inertia J about the vertical axis through the mass centre, kg·m².
@@ -157,6 +158,26 @@ class Floor(Strict):
 
     column_grid: ColumnGrid | None = None
     """Columns of the storey below this floor, generated on a grid (adds to `columns`)."""
+
+    @field_validator("eccentricity")
+    @classmethod
+    def _mass_centre_on_slab(cls, ecc: tuple[float, float], info: ValidationInfo) -> tuple[float, float]:
+        """The mass of a floor lies on its slab, a convex polygon, so its centre does too."""
+        import shapely
+
+        slab = info.data.get("slab")
+        if slab is None:  # the slab itself was refused
+            return ecc
+        outline = shapely.Polygon(slab)
+        centre = shapely.Point(outline.centroid.x + ecc[0], outline.centroid.y + ecc[1])
+        outside = outline.distance(centre)
+        if outside > 1e-6 * max(1.0, outline.length):  # as for columns under the slab
+            raise ValueError(
+                f"the mass centre, at ({centre.x:.6g}, {centre.y:.6g}) m, is {outside:.3g} m outside the slab: "
+                "a floor's mass lies on its slab, so its centre must lie within the slab outline; "
+                f"got [{ecc[0]:g}, {ecc[1]:g}] m from the slab centroid"
+            )
+        return ecc
 
     @model_validator(mode="after")
     def _mass_and_columns(self) -> "Floor":
