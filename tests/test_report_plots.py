@@ -136,11 +136,18 @@ def test_plan_view_at_the_peak_impact(runs):
     assert any(p.get_edgecolor()[:3] == (0.8392156862745098, 0.15294117647058825, 0.1568627450980392)
                for p in contact.patches)  # fmt: skip
     arrows = [a for a in contact.texts if a.arrow_patch is not None]
-    assert len(arrows) == 1  # F_N only: the log keeps no tangential force
-    start, tip = np.array(arrows[0].xyann), np.array(arrows[0].xy)
-    direction = (tip - start) / np.hypot(*(tip - start))
-    np.testing.assert_allclose(direction, [1.0, 0.0], atol=0.02)  # from the left building into the right
-    assert any(lab.startswith("F_N = 16.5 MN") for lab in _labels(contact))
+    assert len(arrows) == 2  # F_N and F_T, both from the impact log (the sample misses the impact)
+    (start, tip_n), (_, tip_t) = [(np.array(a.xyann), np.array(a.xy)) for a in arrows]
+    # drawn along the logged normal n (from the left building into the right) and t = ẑ × n,
+    # lengths in the ratio of the logged forces (to the rounding of the drawing: 1e-9)
+    n = np.array([event["normal_x"], event["normal_y"]])
+    np.testing.assert_allclose(n, [1.0, 0.0], atol=0.02)
+    np.testing.assert_allclose((tip_n - start) / np.hypot(*(tip_n - start)), n, atol=1e-9)
+    f_n, f_t = event["peak_normal_force"], event["tangential_force_at_peak"]
+    np.testing.assert_allclose(tip_t - start, (tip_n - start) @ n * (f_t / f_n) * np.array([-n[1], n[0]]), atol=1e-9)
+    labels = _labels(contact)
+    assert f"F_N = {f_n / 1e6:.3g} MN" in labels and f"F_T = {f_t / 1e6:.3g} MN" in labels
+    assert "F_N = 16.5 MN" in labels and abs(f_t) > 0.1 * f_n, "friction matters in this impact"
     star = [ln for ln in contact.get_lines() if ln.get_label() == "action point"][0]
     assert abs(star.get_xdata()[0] - 8.05) < 0.6 and abs(star.get_ydata()[0] - 4.05) < 0.1
 
