@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 from .style import colour, figure, grid
-from .sweep_data import Sweep, column_names, numeric_parameters
+from .sweep_data import Sweep, column_names, numeric_parameters, short_value
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -60,10 +60,15 @@ def groups(sweep: Sweep, x: str) -> list[tuple[str, list[dict[str, Any]]]]:
         others = [p for p in sweep.names("parameter")
                   if p != x and len({json.dumps(r[p], sort_keys=True) for r in rows}) > 1]  # fmt: skip
         for r in rows:
-            key = ", ".join(f"{p}={json.dumps(r[p], ensure_ascii=False)}" for p in others)
+            key = ", ".join(f"{p}={_legend_value(r[p])}" for p in others)
             label = f"{study}: {key}" if study and key else study or key
             out.setdefault(label, []).append(r)
     return [(label, sorted(rows, key=lambda r: r[x])) for label, rows in out.items()]
+
+
+def _legend_value(value: Any) -> str:
+    """A parameter value in a legend: numbers and strings as JSON, lists and tables shortened."""
+    return short_value(value) if isinstance(value, (list, dict)) else json.dumps(value, ensure_ascii=False)
 
 
 PRETTY = {"impacts": "impacts", "peak_impact_force_N": "peak impact force", "energy_balance_error": "energy balance error",
