@@ -126,6 +126,43 @@ def test_polar_figure(folder):
     np.testing.assert_allclose(fig.axes[0].get_lines()[0].get_xdata(), np.radians([0, 45, 90, 135]))
 
 
+def _overlaps(fig):
+    """Pairs of texts of a drawn polar figure that overlap: per panel its title, angle labels
+    and radial labels, and the figure's title."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()
+
+    def boxes(texts):
+        return [(t.get_text(), t.get_window_extent(renderer)) for t in texts if t.get_visible() and t.get_text()]
+
+    found = []
+    suptitle = boxes([fig._suptitle])
+    for ax in fig.axes:
+        title, angles, radii = boxes([ax.title]), boxes(ax.get_xticklabels()), boxes(ax.get_yticklabels())
+        assert title and len(angles) == 8 and len(radii) >= 2
+        for group, other in ((title, angles + radii + suptitle), (radii, angles)):
+            found += [(a, b) for a, box in group for b, box2 in other if box.overlaps(box2)]
+        found += [(a, b) for i, (a, box) in enumerate(radii) for b, box2 in radii[i + 1:] if box.overlaps(box2)]
+    return found
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-4], ids=["mm", "long radial labels"])
+def test_polar_labels_do_not_overlap(folder, scale):
+    """No panel title, angle label, radial label or figure title runs into another, with the
+    sweep's values and with them scaled to give long radial labels (0.0012 mm)."""
+    from pounding_cli.report.sweep_data import Sweep
+
+    sweep = open_sweep(folder)
+    results = set(sweep.names("result"))
+    rows = [{k: v * scale if k in results and isinstance(v, float) else v for k, v in r.items()} for r in sweep.rows]
+    scaled = Sweep(sweep.folder, sweep.attrs, sweep.columns, rows)
+    for fig in (parameter_figure(scaled, "excitation.angle", column="left:C9", polar=True),
+                parameter_figure(scaled, "excitation.angle", polar=True)):  # fmt: skip
+        assert _overlaps(fig) == []
+
+
 def test_bars_of_named_cases(folder):
     sweep = open_sweep(folder)
     rows = match_cases(sweep, ["cases/*"])
