@@ -136,7 +136,9 @@ def run(
     "Every case is checked before any runs; a bad path or value exits 2 naming the case and "
     "the field. Each case's results go to OUTPUT/cases/<hash>.h5 (as `pound run` writes them), "
     "and OUTPUT/summary.csv and summary.h5 get one row per case. Rerunning skips the cases "
-    "already complete. Runs on local processes (--jobs, default all cores) or a Dask cluster "
+    "already complete (matched by their inputs and pound's version number, which stays the same "
+    "while a development install's code changes: after updating or changing pound, give a fresh "
+    "OUTPUT). Runs on local processes (--jobs, default all cores) or a Dask cluster "
     "(--scheduler, --scheduler-file). Exits 1 if a case failed."
 )
 def sweep(

@@ -192,3 +192,33 @@ def test_stick_then_slip_at_static_then_kinetic_friction():
     e_contact = r.energy[:, 5]
     assert_allclose(e_contact[-1] - e_contact[i0], work, rtol=1e-2)
     assert np.abs(r.energy[:, 6]).max() < 1e-3 * e_contact[-1], "energy balance"
+
+
+def test_impact_log_keeps_the_contact_force_at_the_peak():
+    """The oblique corner impact with friction (it slides), output at every step: each logged
+    episode's F_T at the peak is the F_T of the contact histories at t_peak, bit for bit (the
+    same number, stored twice), within Coulomb's bound |F_T| ≤ μ_s·F_N; and its normal is the
+    one shapely gives for the displaced outlines at that step — perpendicular to the line
+    through the points where they cross — to 1e-9 (the clipping and shapely's intersection
+    agree to rounding of coordinates of order 10 m)."""
+    from pounding_cli.report.plan import contact_normal
+
+    mu_s, mu_k = 0.8, 0.6
+    structure, contact, velocity = _oblique(mu_s, mu_k)
+    r = run(structure, contact, velocity, duration=0.25, stride=1)
+    assert r.events.shape[0] >= 1
+    slabs = contact.body_poly[:2]
+    centres = structure.floor_centre
+    for event in r.events:
+        k = int(np.flatnonzero(r.time == event[kernel.EV_T_PEAK])[0])
+        f_n, f_t = r.contact[k, 0, kernel.NOW_FN], r.contact[k, 0, kernel.NOW_FT]
+        assert event[kernel.EV_PEAK_FN] == f_n and event[kernel.EV_FT_PEAK] == f_t
+        assert abs(f_t) <= mu_s * f_n
+        u = r.displacement[k].reshape(2, 3)
+        moved = [p + np.column_stack([u[i, 0] - u[i, 2] * (p[:, 1] - centres[i, 1]),
+                                      u[i, 1] + u[i, 2] * (p[:, 0] - centres[i, 0])])
+                 for i, p in enumerate(slabs)]  # fmt: skip
+        assert_allclose([event[kernel.EV_NX], event[kernel.EV_NY]], contact_normal(*moved), atol=1e-9)
+    peak = r.events[np.argmax(r.events[:, kernel.EV_PEAK_FN])]
+    assert r.events[0, kernel.EV_SLID] == 1.0 and abs(peak[kernel.EV_FT_PEAK]) > 0.05 * peak[kernel.EV_PEAK_FN], \
+        "friction carries a real share of the force at the peak"

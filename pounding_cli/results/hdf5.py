@@ -26,7 +26,7 @@ from .result import (
     YieldingResult,
 )
 
-EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -"
+EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m"
 
 
@@ -108,8 +108,10 @@ def _write_contact(g: h5py.Group, c: ContactResult) -> None:
     events.attrs["units"] = EVENT_UNITS
     events.attrs["description"] = (
         "one row per contact episode; level, floor_b: floors (1-based) of body A's and body B's "
-        "buildings, floor_b 0 for an obstacle; x, y: action point at the peak force (global); "
-        "t_end NaN when the contact lasted to the end"
+        "buildings, floor_b 0 for an obstacle; at the step of the peak normal force (t_peak): x, y the "
+        "action point (global), tangential_force_at_peak the tangential force on body B along t = z x n "
+        "(signed), normal_x, normal_y the unit normal n from A into B (global); t_end NaN when the contact "
+        "lasted to the end"
     )
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS
@@ -200,9 +202,13 @@ def read_hdf5(path: str | Path) -> RunResult:
 
 def _read_contact(g: h5py.Group) -> ContactResult:
     def table(name: str, dtype: np.dtype) -> np.ndarray:
+        """The table as `dtype`; a float column the file lacks (written before it existed) is NaN."""
         raw = g[name][()]
         out = np.zeros(raw.shape, dtype)
         for field in dtype.names:
+            if field not in raw.dtype.names and dtype[field] == np.float64:
+                out[field] = np.nan
+                continue
             column = raw[field]
             out[field] = [v.decode() for v in column] if dtype[field] == object else column
         return out
