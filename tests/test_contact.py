@@ -192,3 +192,36 @@ def test_stick_then_slip_at_static_then_kinetic_friction():
     e_contact = r.energy[:, 5]
     assert_allclose(e_contact[-1] - e_contact[i0], work, rtol=1e-2)
     assert np.abs(r.energy[:, 6]).max() < 1e-3 * e_contact[-1], "energy balance"
+
+
+def test_tangential_state_resets_between_contact_episodes():
+    """A slab held against a wall by a steady body force, sliding along it: it bounces, flies
+    and lands again, so the one pair has several episodes. Each ends sliding, its friction
+    spring at μ_k·F_N of the last step (kN); each new episode must start from F_T = 0, so its
+    first step carries exactly the spring's increment k_T·Δu_T of that step (B, the wall, is
+    fixed: Δu_T = −(slab's slip at the action point) = −(Δu_y + Δθ·(c_x − G_x))), to rounding
+    (1e-9), not the last episode's force on top of it. Rotation held back (J × 10⁶) keeps
+    the action point on the wall face."""
+    slab = square(4.0, (0.0, 0.0))
+    wall = np.array([[2.002, -50], [3.0, -50], [3.0, 50], [2.002, 50]])
+    k_t, dt, g0 = 1e8, 2e-5, 20.0
+    structure, contact = free_slabs([slab], obstacles=[wall], k_n=1e9, k_t=k_t, mu_s=0.8, mu_k=0.6)
+    structure.mass[2] *= 1e6
+    t = np.arange(0, 0.2, 1e-3)
+    ground = np.column_stack([np.full_like(t, -g0), np.zeros_like(t)])  # pushes the slab (+x) to the wall
+    r = simulate(structure, ground, 1e-3, dt, 1, 8000, contact=contact, initial_velocity=np.array([0.5, 0.3, 0.0]))
+    fn, ft, cx = (r.contact[:, 0, k] for k in (kernel.NOW_FN, kernel.NOW_FT, kernel.NOW_X))
+    on = r.contact[:, 0, kernel.NOW_AREA] > 0
+    first = np.flatnonzero(on[1:] & ~on[:-1]) + 1
+    last = np.flatnonzero(~on[1:] & on[:-1])
+    assert first.size >= 2 and r.events.shape[0] == first.size, "episodes of one pair"
+    assert (r.events[:, kernel.EV_SLID] == 1).all()
+    u = r.displacement
+    for end, start in zip(last, first[1:]):
+        leftover = ft[end]
+        assert_allclose(abs(leftover), 0.6 * fn[end], rtol=1e-9)  # sliding to the end
+        assert abs(leftover) > 1e3, "the last episode ends with a friction force of kN"
+        g_x = structure.floor_centre[0, 0] + u[start, 0]
+        slip = (u[start, 1] - u[start - 1, 1]) + (u[start, 2] - u[start - 1, 2]) * (cx[start] - g_x)
+        assert_allclose(ft[start], k_t * slip, rtol=1e-9)
+        assert abs(ft[start]) < 0.8 * fn[start], "it sticks in its first step"
