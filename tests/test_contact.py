@@ -116,9 +116,9 @@ def test_frictionless_oblique_impact_without_spin_keeps_kinetic_energy():
 
 
 def test_spinning_corner_impact_energy_change_is_the_models_not_the_integrators():
-    """With rotation free, the paper's impact law — force k_N·A_c along n ⟂ P1P2 at the
-    overlap's centroid — is not the gradient of a potential: its moment is not the
-    derivative of the overlap area with respect to the rotation (docs/theory.md). In this
+    """With rotation free, the contact forces are not the gradient of a potential: the kernel
+    moves the outlines by the small-rotation map P + θ·ẑ × (P − G), not rigidly
+    (tests/test_contact_work.py shows the gain is that map's, docs/theory.md §10). In this
     30° corner impact the slabs leave with 2.2 % more kinetic energy. The change is the
     model's: it does not depend on Δt (to 1e-5 between Δt and Δt/4), and the energy balance,
     which counts the contact forces' work, closes."""
