@@ -19,7 +19,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 import pounding_cli as pound  # noqa: E402
+from pounding_cli.api import execute  # noqa: E402
 from pounding_cli.assembly import assemble, ground_motion, timestep  # noqa: E402
+from pounding_cli.bench.run import Setting, with_setting  # noqa: E402
 from pounding_cli.solver import simulate  # noqa: E402
 from test_time_history import _eccentric_case, _exact_peaks  # noqa: E402
 
@@ -40,16 +42,16 @@ def time_histories() -> None:
     ground = ground_motion(loaded)
     exact, _ = _exact_peaks(system.buildings[0], ground, substeps=20)
     print("peak interstorey deflection error against the exact solution (x, y, θ):")
-    default = timestep.AUTO_DT_FRACTION
-    for fraction in (0.2, 0.1, 0.05, 0.025):
-        timestep.AUTO_DT_FRACTION = fraction
-        result = pound.run_model(loaded)
+    scene = pound.prepare(loaded)
+    settings = [Setting(f"cdm, {f:g}·2/ω_max", "cdm", dt_fraction=f) for f in (0.2, 0.1, 0.05, 0.025)]
+    for setting in settings + [Setting("hybrid (the default)", "hybrid")]:
+        result = execute(with_setting(scene, setting))
         errs = peak_errors(result.buildings["b"].interstorey_deflection, exact)
-        mark = "  <- default" if fraction == default else ""
-        print(f"  dt = {fraction:5.3f}·2/ω_max = {result.diagnostics['dt'] * 1e3:.3f} ms: "
+        default = setting.integrator == "cdm" and setting.dt_fraction == timestep.AUTO_DT_FRACTION
+        mark = "  <- the CDM's default step" if default else ""
+        print(f"  {setting.name}, Δt = {result.diagnostics['dt'] * 1e3:.3f} ms: "
               + ", ".join(f"{100 * e:.4f} %" for e in errs)
               + f"; energy balance {result.balance_error_ratio:.2e}{mark}")
-    timestep.AUTO_DT_FRACTION = default
 
     _, u_exact = _exact_peaks(system.buildings[0], ground, substeps=4)
     reference = u_exact[:4001:4]
