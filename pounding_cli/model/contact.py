@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, PlainValidator, WithJsonSchema, model_validator
+from pydantic import Field, PlainValidator, ValidationInfo, WithJsonSchema, field_validator, model_validator
 
 from .base import Name, Real, Strict
-from .slab import SlabPolygon
+from .slab import Outline, convex_polygon
 
 
 def _number_or_auto(value: Any) -> float | Literal["auto"]:
@@ -82,7 +82,7 @@ class Obstacle(Strict):
     name: Name
     """Obstacle name, unique among buildings and obstacles."""
 
-    polygon: SlabPolygon
+    polygon: Outline
     """Outline: a convex polygon [[X, Y], ...] in global coordinates, m, either orientation."""
 
     elevation: Real | tuple[Real, Real]
@@ -104,6 +104,15 @@ class Obstacle(Strict):
 
     friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
     """Kinetic friction coefficient against this obstacle; default: [contact]'s."""
+
+    @field_validator("polygon")
+    @classmethod
+    def _convex(cls, polygon: list[tuple[float, float]], info: ValidationInfo) -> list[tuple[float, float]]:
+        """Convex, returned counter-clockwise; the messages name the obstacle (validated
+        before its polygon) rather than a slab."""
+        name = info.data.get("name")
+        what = f"the outline of obstacle {name!r}" if name else "the obstacle's outline"
+        return convex_polygon(polygon, what, "obstacle", "pound models each obstacle as one rigid convex polygon")
 
     @model_validator(mode="after")
     def _range_ordered(self) -> "Obstacle":
