@@ -169,6 +169,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
         "file": str(loaded.source),
         "title": m.title,
         "buildings": buildings,
+        "bearings": [_bearing(name, bearing) for name, bearing in m.bearings.items()],
         "contact": {
             "enabled": m.contact.enabled,
             "pairs": [
@@ -217,6 +218,21 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "steps": grid.n_steps,
             "outputs": grid.n_outputs,
         },
+    }
+
+
+def _bearing(name: str, bearing: Any) -> dict[str, Any]:
+    """A bearing type's bilinear law as resolved from the constants given."""
+    c = bearing.constants()
+    return {
+        "name": name,
+        "given": list(bearing.given()),
+        "initial_stiffness_N_per_m": c.k1,
+        "post_yield_stiffness_N_per_m": c.k2,
+        "characteristic_strength_N": c.q,
+        "yield_force_N": c.fy,
+        "yield_displacement_m": c.dy,
+        "interaction": bearing.interaction,
     }
 
 

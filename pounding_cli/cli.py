@@ -614,6 +614,17 @@ def _print_description(info: dict[str, Any]) -> None:
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
             markup=False,
         )
+    from .model.inelastic import BEARING_FIELDS
+
+    for bearing in info["bearings"]:
+        given = ", ".join(BEARING_FIELDS[k] for k in bearing["given"])
+        out.print(
+            f"bearing {bearing['name']}: K1 = {bearing['initial_stiffness_N_per_m'] / 1e6:.4g} MN/m, "
+            f"K2 = {bearing['post_yield_stiffness_N_per_m'] / 1e6:.4g} MN/m, Q = {bearing['characteristic_strength_N'] / 1e3:.4g} kN, "
+            f"F_y = {bearing['yield_force_N'] / 1e3:.4g} kN, d_y = {bearing['yield_displacement_m'] * 1e3:.4g} mm "
+            f"(given {given}; {bearing['interaction']})",
+            markup=False,
+        )
     c = info["contact"]
     if not c["enabled"]:
         out.print("contact: off", markup=False)

@@ -126,16 +126,16 @@ def assemble_building(
     if iso is not None:
         plan_k, arms_b, arms_t = [], [], []
         for isolator in iso.all_isolators():
-            bearing = bearings[isolator.bearing]
-            k1 = bearing.initial_stiffness
+            bearing = bearings[isolator.bearing].constants()
+            k1 = bearing.k1
             p = to_plan((isolator.x, isolator.y))
             plan_k.append(column_plan_stiffness(k1, k1, phi))
             arms_b.append(np.zeros(2))
             arms_t.append(p - centre[0])
-            fy = bearing.yield_strength()
-            alpha = bearing.post_yield_stiffness / k1
+            fy = bearing.fy
+            alpha = bearing.k2 / k1
             members.append(Member(isolator.name, "isolator", 0, np.zeros(2), arms_t[-1], phi, (k1, k1), (fy, fy),
-                                  (alpha, alpha), bearing.interaction == "elliptical"))  # fmt: skip
+                                  (alpha, alpha), bearings[isolator.bearing].interaction == "elliptical"))  # fmt: skip
         storey_k[0] = storey_stiffness(plan_k, arms_b, arms_t)
         _check_storey(storey_k[0], 0, building, field, source)
     for s0, floor in enumerate(storeys):
