@@ -531,18 +531,21 @@ def run_summary(result: Any) -> dict[str, Any]:
 
 
 def _yielding_summary(y: Any) -> list[dict[str, Any]]:
-    """Per kind of yielding member (column, isolator): how many yielded, and the one with the
+    """Per kind of yielding member (column, isolator): how many yielded, the one with the
     largest ductility (peak |δ| along a local axis over δ_y) with its peak resultant
-    deflection |δ| and residual deflection, m."""
+    deflection |δ| and residual deflection, and the one with the largest residual deflection;
+    deflections are resultants √(δ_x² + δ_y²), m."""
     import numpy as np
 
     ductility = y.ductility.max(axis=1)
+    residual = np.hypot(y.residual_deflection[:, 0], y.residual_deflection[:, 1])
     out = []
     for kind in ("column", "isolator"):
         index = np.flatnonzero(y.members["kind"] == kind)
         if index.size == 0:
             continue
         worst = int(index[np.argmax(ductility[index])])
+        most_bent = int(index[np.argmax(residual[index])])
         out.append({
             "kind": kind,
             "members": int(index.size),
@@ -552,7 +555,12 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
                 "storey": int(y.members["storey"][worst]),
                 "ductility": float(ductility[worst]),
                 "peak_deflection_m": float(y.peak[worst, 2]),
-                "residual_deflection_m": float(np.hypot(*y.residual_deflection[worst])),
+                "residual_deflection_m": float(residual[worst]),
+            },
+            "largest_residual": {
+                "member": str(y.members["name"][most_bent]),
+                "storey": int(y.members["storey"][most_bent]),
+                "residual_deflection_m": float(residual[most_bent]),
             },
         })  # fmt: skip
     return out
@@ -584,11 +592,12 @@ def _print_summary(s: dict[str, Any]) -> None:
     out.print(table)
     for b in s["buildings"]:
         for group in b.get("yielding", []):
-            w = group["largest_ductility"]
+            w, r = group["largest_ductility"], group["largest_residual"]
             out.print(
                 f"{b['name']}: {group['yielded']} of {group['members']} {group['kind']}s yielded; largest "
                 f"ductility {w['ductility']:.3g} ({w['member']}, storey {w['storey']}: peak |δ| "
-                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm)",
+                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm); "
+                f"largest residual |δ| {1e3 * r['residual_deflection_m']:.3g} mm ({r['member']}, storey {r['storey']})",
                 markup=False,
             )
 

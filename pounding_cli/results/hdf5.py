@@ -158,7 +158,10 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
     g.attrs["isolated"] = b.isolated
     if b.yielding is not None:
-        _write_yielding(g.create_group("yielding"), b.yielding)
+        yielding = g.create_group("yielding")
+        _write_yielding(yielding, b.yielding)
+        for name in ("ductility", "residual_deflection"):  # hard links: one dataset, two names
+            peaks[name] = yielding[name]
 
 
 def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
@@ -174,8 +177,10 @@ def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
     _dataset(g, "force", y.force, "N", description="member shear force", **common)
     _dataset(g, "peak", y.peak, "m, m, m, N, N, N", columns="|dx|, |dy|, |d|, |fx|, |fy|, |f|",
              axes="member local x, y")  # fmt: skip
-    _dataset(g, "ductility", y.ductility, "-", columns="x, y", description="peak |deflection| / yield deflection")
-    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y",
+    rows = "the yielding members, as in yielding/members (also reachable as peaks/<this name>)"
+    _dataset(g, "ductility", y.ductility, "-", columns="x, y", rows=rows,
+             description="peak |deflection| / yield deflection")  # fmt: skip
+    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y", rows=rows,
              description="deflection at rest once the motion has died away elastically from the final state")  # fmt: skip
 
 
