@@ -162,6 +162,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "a1_s": bld.rayleigh[1],
                 },
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
+                "moat": _moat(spec, m),
             }
         )
     contact = scene.contact
@@ -181,6 +182,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "elevation_m": p.elevation,
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
+                    **pair_damping_and_friction(contact, i),
                 }
                 for i, p in enumerate(contact.pairs)
             ],
@@ -218,6 +220,33 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "steps": grid.n_steps,
             "outputs": grid.n_outputs,
         },
+    }
+
+
+def _moat(building: Any, model: Any) -> dict[str, Any] | None:
+    """An isolated building's moat wall: its gap, thickness and wall segments (the contact
+    pairs they are in carry their resolved impact parameters)."""
+    iso = building.isolation
+    if iso is None or iso.moat is None:
+        return None
+    walls = [o.name for o in model.all_obstacles() if o.name.startswith(f"{building.name}.moat")]
+    return {"gap_m": iso.moat.gap, "thickness_m": iso.moat.thickness, "walls": walls,
+            "overrides": iso.moat.overrides()}  # fmt: skip
+
+
+def pair_damping_and_friction(contact: ContactArrays, i: int) -> dict[str, Any]:
+    """Friction and dashpots of contact pair i as resolved: [contact]'s, or an obstacle's or
+    moat wall's own."""
+    from .assembly.contact import restitution_of
+
+    zeta = float(contact.pair_zeta[i])
+    return {
+        "friction_static": float(contact.pair_mu_s[i]),
+        "friction_kinetic": float(contact.pair_mu_k[i]),
+        "restitution": restitution_of(zeta) if zeta > 0 else None,
+        "damping_ratio_normal": zeta,
+        "damping_normal_N_s_per_m": float(contact.pair_cn[i]),
+        "damping_tangential_N_s_per_m": float(contact.pair_ct[i]),
     }
 
 

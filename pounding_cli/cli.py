@@ -610,7 +610,9 @@ def _print_description(info: dict[str, Any]) -> None:
                   f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines"
                   + (f" ({b['yielding_columns']} yielding column instances)" if b["yielding_columns"] else "")
                   + (f"; base-isolated on {b['isolators']} isolators (storey 1, floor 1 = base slab)"
-                     if b["isolators"] else ""))  # fmt: skip
+                     if b["isolators"] else "")
+                  + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
+                     if b["moat"] else ""))  # fmt: skip
         table = Table()
         for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
             table.add_column(col, justify="right")
@@ -640,14 +642,15 @@ def _print_description(info: dict[str, Any]) -> None:
     elif not c["pairs"]:
         out.print("contact: no floors share a level, so nothing can touch", markup=False)
     else:
-        kn = sorted({p["k_normal_N_per_m2"] for p in c["pairs"]})
-        kt = sorted({p["k_tangential_N_per_m"] for p in c["pairs"]})
-        out.print(
-            f"contact: {len(c['pairs'])} candidate pairs; k_N = {', '.join(f'{k / 1e3:.4g}' for k in kn)} kN/m², "
-            f"k_T = {', '.join(f'{k / 1e3:.4g}' for k in kt)} kN/m; μ_s = {c['friction_static']:g}, "
-            f"μ_k = {c['friction_kinetic']:g}",
-            markup=False,
-        )
+        out.print(f"contact: {len(c['pairs'])} candidate pairs", markup=False)
+        groups: dict[str, list[str]] = {}  # the pairs' kinds by their resolved impact parameters
+        for p in c["pairs"]:
+            kind = "floor–" + ("floor" if p["floor_b"] else p["body_b"])
+            kinds = groups.setdefault(_impact_parameters(p), [])
+            if kind not in kinds:
+                kinds.append(kind)
+        for text, kinds in groups.items():
+            out.print(f"  {', '.join(kinds)}: {text}", markup=False)
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
@@ -673,6 +676,20 @@ def _print_description(info: dict[str, Any]) -> None:
         f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
         markup=False,
     )
+
+
+def _impact_parameters(p: dict[str, Any]) -> str:
+    """A contact pair's resolved impact parameters in words."""
+    if p["restitution"] is not None:
+        normal = f"normal dashpot for e = {p['restitution']:.3g} (ζ = {p['damping_ratio_normal']:.4g})"
+    elif p["damping_normal_N_s_per_m"]:
+        normal = f"normal dashpot {p['damping_normal_N_s_per_m']:.4g} N·s/m"
+    else:
+        normal = "no normal dashpot"
+    tangential = p["damping_tangential_N_s_per_m"]
+    return (f"k_N = {p['k_normal_N_per_m2'] / 1e3:.4g} kN/m², k_T = {p['k_tangential_N_per_m'] / 1e3:.4g} kN/m; "
+            f"μ_s = {p['friction_static']:g}, μ_k = {p['friction_kinetic']:g}; {normal}"
+            + (f", tangential dashpot {tangential:.4g} N·s/m" if tangential else ""))  # fmt: skip
 
 
 def _print_record(s: dict[str, Any]) -> None:

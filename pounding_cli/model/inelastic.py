@@ -19,6 +19,7 @@ from typing import Annotated, Callable, Literal
 from pydantic import Field, model_validator
 
 from .base import Name, Positive, Real, Strict
+from .contact import ImpactOverrides
 from .slab import SlabPolygon
 
 Interaction = Literal["elliptical", "independent"]
@@ -218,9 +219,10 @@ class IsolatorGrid(Strict):
         ]
 
 
-class Moat(Strict):
+class Moat(ImpactOverrides):
     """The moat (retaining) wall around the base slab: one rigid wall segment along each edge
-    of the slab, at the slab's level, a clear gap away."""
+    of the slab, at the slab's level, a clear gap away. Its impact parameters (stiffness,
+    friction, dashpots), where given, replace [contact]'s for the base slab against it."""
 
     gap: Annotated[Real, Field(gt=0, le=100)]
     """Clear distance from each edge of the base slab at rest to the wall, m."""
@@ -230,19 +232,6 @@ class Moat(Strict):
 
     material: Name
     """Name of the wall's material in [materials] (for "auto" impact stiffness)."""
-
-    k_normal: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Normal impact stiffness against the wall per unit overlap area, N/m²; default: as
-    [contact] gives it."""
-
-    k_tangential: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Tangential impact stiffness against the wall, N/m; default: as [contact] gives it."""
-
-    friction_static: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Static friction coefficient against the wall; default: [contact]'s."""
-
-    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Kinetic friction coefficient against the wall; default: [contact]'s."""
 
 
 class Isolation(Strict):
