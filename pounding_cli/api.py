@@ -31,6 +31,7 @@ from .assembly import (
     ground_motion,
     time_grid,
 )
+from .assembly.damping import modal_damping_ratios
 from .errors import InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
@@ -141,6 +142,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     buildings = []
     for bld, spec in zip(system.buildings, m.buildings):
         n = min(6, bld.modes.omega.size)
+        anchor = bld.rayleigh_modes or bld.modes
         masses = bld.mass.reshape(-1, 3)
         buildings.append(
             {
@@ -155,12 +157,17 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "yielding_columns": sum(mb.kind == "column" for mb in bld.members),
                 "periods_s": bld.modes.periods[:n].tolist(),
                 "participating_mass_ratio_x_y_theta": bld.modes.participation[:n].tolist(),
+                "damping_ratios": modal_damping_ratios(bld.damping, bld.modes.shapes[:, :n],
+                                                       bld.modes.omega[:n]).tolist(),  # fmt: skip
                 "rayleigh": {
                     "modes": list(spec.damping.modes),
                     "ratios": list(spec.damping.ratios),
+                    "of": "superstructure on a fixed base" if bld.isolated else "building",
+                    "anchor_periods_s": [float(anchor.periods[k - 1]) for k in spec.damping.modes],
                     "a0_per_s": bld.rayleigh[0],
                     "a1_s": bld.rayleigh[1],
                 },
+                "isolation": _isolation(spec, bld),
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
                 "moat": _moat(spec, m),
             }
@@ -220,6 +227,19 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "steps": grid.n_steps,
             "outputs": grid.n_outputs,
         },
+    }
+
+
+def _isolation(building: Any, bld: Any) -> dict[str, Any] | None:
+    """An isolated building's isolation system: its viscous damping ratio and the isolated
+    period 2π/ω_b on the bearings' post-yield stiffness at which it holds."""
+    if building.isolation is None:
+        return None
+    sum_k2 = sum(mb.stiffness[0] * mb.post_yield_ratio[0] for mb in bld.members if mb.kind == "isolator")
+    total = float(bld.mass[0::3].sum())
+    return {
+        "damping_ratio": building.isolation.damping_ratio,
+        "isolated_period_s": float(2 * np.pi * np.sqrt(total / sum_k2)) if sum_k2 > 0 else None,
     }
 
 

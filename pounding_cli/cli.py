@@ -614,17 +614,27 @@ def _print_description(info: dict[str, Any]) -> None:
                   + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
                      if b["moat"] else ""))  # fmt: skip
         table = Table()
-        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
+        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ", "ζ"):
             table.add_column(col, justify="right")
-        for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):
-            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p))
+        for i, (t, p, z) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"],
+                                          b["damping_ratios"])):  # fmt: skip
+            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p), f"{100 * z:.2f} %")
         out.print(table)
         r = b["rayleigh"]
+        of = "" if r["of"] == "building" else f" of the {r['of']} (periods {', '.join(f'{t:.4f}' for t in r['anchor_periods_s'])} s)"
         out.print(
-            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}"
+            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}{of}"
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
             markup=False,
         )
+        iso = b["isolation"]
+        if iso is not None:
+            period = f" at T_b = {iso['isolated_period_s']:.4g} s (on K2)" if iso["isolated_period_s"] else ""
+            out.print(
+                f"  isolation: viscous ζ_b = {iso['damping_ratio']:g}{period}; the Rayleigh damping acts on the "
+                "superstructure's deformation only, the bearings damp by their hysteresis",
+                markup=False,
+            )
     from .model.inelastic import BEARING_FIELDS
 
     for bearing in info["bearings"]:

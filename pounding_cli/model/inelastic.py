@@ -264,6 +264,13 @@ class Isolation(Strict):
     moat: Moat | None = None
     """The moat wall around the base slab; none if absent."""
 
+    damping_ratio: Annotated[Real, Field(ge=0, lt=1)] = 0.0
+    """Viscous damping of the isolation system as a fraction of critical at the isolated
+    frequency ω_b = √(ΣK2/M) (M the building's mass, K2 the bearings' post-yield stiffness):
+    dashpots in parallel with the isolators, c = 2·ζ_b·K2/ω_b each. Default 0: the bearings
+    damp by their hysteresis only, and the isolated modes get no viscous damping (the
+    building's Rayleigh damping acts on the superstructure's deformation only)."""
+
     @model_validator(mode="after")
     def _mass_and_isolators(self) -> "Isolation":
         if (self.mass is None) == (self.mass_per_area is None):

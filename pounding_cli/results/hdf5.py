@@ -156,6 +156,8 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
+    if b.isolated:  # C = Tᵀ(a0·M_s + a1·K_s)T + C_b: on the superstructure's deformation (docs/theory.md §12)
+        modes.attrs["rayleigh_of"] = "superstructure on a fixed base, acting on its deformation"
     g.attrs["isolated"] = b.isolated
     if b.yielding is not None:
         yielding = g.create_group("yielding")
