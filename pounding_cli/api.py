@@ -32,6 +32,7 @@ from .assembly import (
     time_grid,
 )
 from .assembly.timestep import stability_limit
+from .assembly.damping import modal_damping_ratios
 from .errors import InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
@@ -142,6 +143,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     buildings = []
     for bld, spec in zip(system.buildings, m.buildings):
         n = min(6, bld.modes.omega.size)
+        anchor = bld.rayleigh_modes or bld.modes
         masses = bld.mass.reshape(-1, 3)
         buildings.append(
             {
@@ -156,14 +158,20 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "yielding_columns": sum(mb.kind == "column" for mb in bld.members),
                 "periods_s": bld.modes.periods[:n].tolist(),
                 "participating_mass_ratio_x_y_theta": bld.modes.participation[:n].tolist(),
+                "damping_ratios": modal_damping_ratios(bld.damping, bld.modes.shapes[:, :n],
+                                                       bld.modes.omega[:n]).tolist(),  # fmt: skip
                 "rayleigh": {
                     "modes": list(spec.damping.modes),
                     "ratios": list(spec.damping.ratios),
+                    "of": "superstructure on a fixed base" if bld.isolated else "building",
+                    "anchor_periods_s": [float(anchor.periods[k - 1]) for k in spec.damping.modes],
                     "a0_per_s": bld.rayleigh[0],
                     "a1_s": bld.rayleigh[1],
                 },
+                "isolation": _isolation(spec, bld),
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
                 "dt_limit_s": stability_limit(float(bld.modes.omega[-1])),
+                "moat": _moat(spec, m),
             }
         )
     contact = scene.contact
@@ -171,6 +179,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
         "file": str(loaded.source),
         "title": m.title,
         "buildings": buildings,
+        "bearings": [_bearing(name, bearing) for name, bearing in m.bearings.items()],
         "contact": {
             "enabled": m.contact.enabled,
             "pairs": [
@@ -182,6 +191,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "elevation_m": p.elevation,
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
+                    **pair_damping_and_friction(contact, i),
                 }
                 for i, p in enumerate(contact.pairs)
             ],
@@ -223,6 +233,61 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "duration_s": grid.duration,
             "outputs": grid.n_outputs,
         },
+    }
+
+
+def _isolation(building: Any, bld: Any) -> dict[str, Any] | None:
+    """An isolated building's isolation system: its viscous damping ratio and the isolated
+    period 2π/ω_b on the bearings' post-yield stiffness at which it holds."""
+    if building.isolation is None:
+        return None
+    sum_k2 = sum(mb.stiffness[0] * mb.post_yield_ratio[0] for mb in bld.members if mb.kind == "isolator")
+    total = float(bld.mass[0::3].sum())
+    return {
+        "damping_ratio": building.isolation.damping_ratio,
+        "isolated_period_s": float(2 * np.pi * np.sqrt(total / sum_k2)) if sum_k2 > 0 else None,
+    }
+
+
+def _moat(building: Any, model: Any) -> dict[str, Any] | None:
+    """An isolated building's moat wall: its gap, thickness and wall segments (the contact
+    pairs they are in carry their resolved impact parameters)."""
+    iso = building.isolation
+    if iso is None or iso.moat is None:
+        return None
+    walls = [o.name for o in model.all_obstacles() if o.name.startswith(f"{building.name}.moat")]
+    return {"gap_m": iso.moat.gap, "thickness_m": iso.moat.thickness, "walls": walls,
+            "overrides": iso.moat.overrides()}  # fmt: skip
+
+
+def pair_damping_and_friction(contact: ContactArrays, i: int) -> dict[str, Any]:
+    """Friction and dashpots of contact pair i as resolved: [contact]'s, or an obstacle's or
+    moat wall's own."""
+    from .assembly.contact import restitution_of
+
+    zeta = float(contact.pair_zeta[i])
+    return {
+        "friction_static": float(contact.pair_mu_s[i]),
+        "friction_kinetic": float(contact.pair_mu_k[i]),
+        "restitution": restitution_of(zeta) if zeta > 0 else None,
+        "damping_ratio_normal": zeta,
+        "damping_normal_N_s_per_m": float(contact.pair_cn[i]),
+        "damping_tangential_N_s_per_m": float(contact.pair_ct[i]),
+    }
+
+
+def _bearing(name: str, bearing: Any) -> dict[str, Any]:
+    """A bearing type's bilinear law as resolved from the constants given."""
+    c = bearing.constants()
+    return {
+        "name": name,
+        "given": list(bearing.given()),
+        "initial_stiffness_N_per_m": c.k1,
+        "post_yield_stiffness_N_per_m": c.k2,
+        "characteristic_strength_N": c.q,
+        "yield_force_N": c.fy,
+        "yield_displacement_m": c.dy,
+        "interaction": bearing.interaction,
     }
 
 

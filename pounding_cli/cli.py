@@ -559,18 +559,21 @@ def run_summary(result: Any) -> dict[str, Any]:
 
 
 def _yielding_summary(y: Any) -> list[dict[str, Any]]:
-    """Per kind of yielding member (column, isolator): how many yielded, and the one with the
+    """Per kind of yielding member (column, isolator): how many yielded, the one with the
     largest ductility (peak |δ| along a local axis over δ_y) with its peak resultant
-    deflection |δ| and residual deflection, m."""
+    deflection |δ| and residual deflection, and the one with the largest residual deflection;
+    deflections are resultants √(δ_x² + δ_y²), m."""
     import numpy as np
 
     ductility = y.ductility.max(axis=1)
+    residual = np.hypot(y.residual_deflection[:, 0], y.residual_deflection[:, 1])
     out = []
     for kind in ("column", "isolator"):
         index = np.flatnonzero(y.members["kind"] == kind)
         if index.size == 0:
             continue
         worst = int(index[np.argmax(ductility[index])])
+        most_bent = int(index[np.argmax(residual[index])])
         out.append({
             "kind": kind,
             "members": int(index.size),
@@ -580,7 +583,12 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
                 "storey": int(y.members["storey"][worst]),
                 "ductility": float(ductility[worst]),
                 "peak_deflection_m": float(y.peak[worst, 2]),
-                "residual_deflection_m": float(np.hypot(*y.residual_deflection[worst])),
+                "residual_deflection_m": float(residual[worst]),
+            },
+            "largest_residual": {
+                "member": str(y.members["name"][most_bent]),
+                "storey": int(y.members["storey"][most_bent]),
+                "residual_deflection_m": float(residual[most_bent]),
             },
         })  # fmt: skip
     return out
@@ -617,11 +625,12 @@ def _print_summary(s: dict[str, Any]) -> None:
     out.print(table, soft_wrap=False)
     for b in s["buildings"]:
         for group in b.get("yielding", []):
-            w = group["largest_ductility"]
+            w, r = group["largest_ductility"], group["largest_residual"]
             out.print(
                 f"{b['name']}: {group['yielded']} of {group['members']} {group['kind']}s yielded; largest "
                 f"ductility {w['ductility']:.3g} ({w['member']}, storey {w['storey']}: peak |δ| "
-                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm)",
+                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm); "
+                f"largest residual |δ| {1e3 * r['residual_deflection_m']:.3g} mm ({r['member']}, storey {r['storey']})",
                 markup=False,
             )
 
@@ -646,37 +655,61 @@ def _print_description(info: dict[str, Any]) -> None:
                   f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines"
                   + (f" ({b['yielding_columns']} yielding column instances)" if b["yielding_columns"] else "")
                   + (f"; base-isolated on {b['isolators']} isolators (storey 1, floor 1 = base slab)"
-                     if b["isolators"] else ""))  # fmt: skip
+                     if b["isolators"] else "")
+                  + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
+                     if b["moat"] else ""))  # fmt: skip
         for line in _floor_groups(b):
             out.print(f"  {line}", markup=False)
         table = Table()
-        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
+        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ", "ζ"):
             table.add_column(col, justify="right")
-        for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):
-            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p))
+        for i, (t, p, z) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"],
+                                          b["damping_ratios"])):  # fmt: skip
+            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p), f"{100 * z:.2f} %")
         out.print(table, soft_wrap=False)
         r = b["rayleigh"]
+        of = "" if r["of"] == "building" else f" of the {r['of']} (periods {', '.join(f'{t:.4f}' for t in r['anchor_periods_s'])} s)"
         out.print(
-            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}"
+            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}{of}"
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
             markup=False,
         )
         out.print(f"  Δt limit (CDM): 2/ω_max = {b['dt_limit_s']:.4g} s (ω_max = {b['omega_max_rad_s']:.4g} rad/s)",
                   markup=False)  # fmt: skip
+        iso = b["isolation"]
+        if iso is not None:
+            period = f" at T_b = {iso['isolated_period_s']:.4g} s (on K2)" if iso["isolated_period_s"] else ""
+            out.print(
+                f"  isolation: viscous ζ_b = {iso['damping_ratio']:g}{period}; the Rayleigh damping acts on the "
+                "superstructure's deformation only, the bearings damp by their hysteresis",
+                markup=False,
+            )
+    from .model.inelastic import BEARING_FIELDS
+
+    for bearing in info["bearings"]:
+        given = ", ".join(BEARING_FIELDS[k] for k in bearing["given"])
+        out.print(
+            f"bearing {bearing['name']}: K1 = {bearing['initial_stiffness_N_per_m'] / 1e6:.4g} MN/m, "
+            f"K2 = {bearing['post_yield_stiffness_N_per_m'] / 1e6:.4g} MN/m, Q = {bearing['characteristic_strength_N'] / 1e3:.4g} kN, "
+            f"F_y = {bearing['yield_force_N'] / 1e3:.4g} kN, d_y = {bearing['yield_displacement_m'] * 1e3:.4g} mm "
+            f"(given {given}; {bearing['interaction']})",
+            markup=False,
+        )
     c = info["contact"]
     if not c["enabled"]:
         out.print("contact: off", markup=False)
     elif not c["pairs"]:
         out.print("contact: no floors share a level, so nothing can touch", markup=False)
     else:
-        kn = sorted({p["k_normal_N_per_m2"] for p in c["pairs"]})
-        kt = sorted({p["k_tangential_N_per_m"] for p in c["pairs"]})
-        out.print(
-            f"contact: {len(c['pairs'])} candidate pairs; k_N = {', '.join(f'{k / 1e3:.4g}' for k in kn)} kN/m², "
-            f"k_T = {', '.join(f'{k / 1e3:.4g}' for k in kt)} kN/m; μ_s = {c['friction_static']:g}, "
-            f"μ_k = {c['friction_kinetic']:g}",
-            markup=False,
-        )
+        out.print(f"contact: {len(c['pairs'])} candidate pairs", markup=False)
+        groups: dict[str, list[str]] = {}  # the pairs' kinds by their resolved impact parameters
+        for p in c["pairs"]:
+            kind = "floor–" + ("floor" if p["floor_b"] else p["body_b"])
+            kinds = groups.setdefault(_impact_parameters(p), [])
+            if kind not in kinds:
+                kinds.append(kind)
+        for text, kinds in groups.items():
+            out.print(f"  {', '.join(kinds)}: {text}", markup=False)
         out.print(f"  Δt limit (CDM, in contact): 2/ω_contact = {c['dt_limit_s']:.4g} s (ω_contact = "
                   f"{c['omega_max_rad_s']:.4g} rad/s, an upper estimate)", markup=False)  # fmt: skip
     e = info["excitation"]
@@ -721,6 +754,20 @@ def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
         )
     else:
         out.print(f"  integrator: cdm — the central difference method, {a['steps']:,} steps of Δt", markup=False)
+
+
+def _impact_parameters(p: dict[str, Any]) -> str:
+    """A contact pair's resolved impact parameters in words."""
+    if p["restitution"] is not None:
+        normal = f"normal dashpot for e = {p['restitution']:.3g} (ζ = {p['damping_ratio_normal']:.4g})"
+    elif p["damping_normal_N_s_per_m"]:
+        normal = f"normal dashpot {p['damping_normal_N_s_per_m']:.4g} N·s/m"
+    else:
+        normal = "no normal dashpot"
+    tangential = p["damping_tangential_N_s_per_m"]
+    return (f"k_N = {p['k_normal_N_per_m2'] / 1e3:.4g} kN/m², k_T = {p['k_tangential_N_per_m'] / 1e3:.4g} kN/m; "
+            f"μ_s = {p['friction_static']:g}, μ_k = {p['friction_kinetic']:g}; {normal}"
+            + (f", tangential dashpot {tangential:.4g} N·s/m" if tangential else ""))  # fmt: skip
 
 
 def _print_record(s: dict[str, Any]) -> None:

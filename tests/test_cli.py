@@ -124,7 +124,9 @@ def test_progress_in_process_when_asked(tmp_path):
 
 def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
     """`pound run --json` and the printed summary give, per kind of yielding member, how many
-    yielded and the one of largest ductility, as the file's /buildings/<b>/yielding says."""
+    yielded, the one of largest ductility and the one of largest residual deflection, as the
+    file's /buildings/<b>/yielding says; peaks/ductility and peaks/residual_deflection are
+    the yielding datasets under a second name (HDF5 hard links, no copy)."""
     import numpy as np
     from pounding_cli.model import read_document
 
@@ -150,10 +152,23 @@ def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
             assert w["ductility"] == pytest.approx(ductility[worst], rel=1e-12)
             assert w["peak_deflection_m"] == pytest.approx(g["peak"][worst, 2], rel=1e-12)
             assert w["residual_deflection_m"] == pytest.approx(np.hypot(*g["residual_deflection"][worst]), rel=1e-12)
+            # the largest residual deflection: the resultant over both local axes, the largest member
+            residual = np.hypot(*g["residual_deflection"][()].T)
+            r = group["largest_residual"]
+            assert r["member"] == g["members"]["name"][int(np.argmax(residual))].decode()
+            assert r["storey"] == g["members"]["storey"][int(np.argmax(residual))]
+            assert r["residual_deflection_m"] == residual.max() > np.abs(g["residual_deflection"][()]).max()
+            # per-member ductility and residual deflection are also under peaks/: the same datasets
+            peaks = f[f"buildings/{name}/peaks"]
+            for key in ("ductility", "residual_deflection"):
+                assert peaks[key] == g[key], f"peaks/{key} is not a hard link to yielding/{key}"
     printed = runner.invoke(app, ["run", str(model), "-o", str(out), "--force"], env={"COLUMNS": "200"})
     group = summary["left"]["yielding"][0]
     line = (f"left: {group['yielded']} of {group['members']} columns yielded; largest ductility "
             f"{group['largest_ductility']['ductility']:.3g} ({group['largest_ductility']['member']}, storey")
+    assert line in printed.stdout, printed.stdout
+    r = group["largest_residual"]
+    line = (f"largest residual |δ| {1e3 * r['residual_deflection_m']:.3g} mm ({r['member']}, storey {r['storey']})")
     assert line in printed.stdout, printed.stdout
 
 

@@ -212,7 +212,9 @@ class Floor(Strict):
 
 
 class RayleighDamping(Strict):
-    """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes."""
+    """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes. Of a
+    base-isolated building: the superstructure's, from its modes on a fixed base and acting
+    on its deformation only (docs/theory.md §12)."""
 
     ratios: tuple[Annotated[Real, Field(ge=0, lt=1)], Annotated[Real, Field(ge=0, lt=1)]] = (
         0.05,
@@ -221,8 +223,9 @@ class RayleighDamping(Strict):
     """Damping ratios [ζ_i, ζ_j], fraction of critical (0.05 = 5 %)."""
 
     modes: tuple[Annotated[Count, Field(ge=1)], Annotated[Count, Field(ge=1)]] = (1, 3)
-    """Mode numbers [i, j] (1 = longest period) where the ratios hold. Default [1, 3]:
-    a symmetric building's modes 1 and 2 share one frequency and cannot anchor the fit."""
+    """Mode numbers [i, j] (1 = longest period) where the ratios hold; of a base-isolated
+    building, modes of its superstructure on a fixed base. Default [1, 3]: a symmetric
+    building's modes 1 and 2 share one frequency and cannot anchor the fit."""
 
     @field_validator("modes")
     @classmethod
@@ -250,7 +253,8 @@ class Building(Strict):
     """Floors from the lowest up; each carries the storey of columns beneath it."""
 
     damping: RayleighDamping = RayleighDamping()
-    """Rayleigh damping of this building."""
+    """Rayleigh damping of this building (of a base-isolated building: of its superstructure,
+    see `isolation.damping_ratio` for the isolation system)."""
 
     isolation: Isolation | None = None
     """The isolation system of a base-isolated building (base slab on isolators, optional moat

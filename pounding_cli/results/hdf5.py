@@ -158,9 +158,14 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
+    if b.isolated:  # C = Tᵀ(a0·M_s + a1·K_s)T + C_b: on the superstructure's deformation (docs/theory.md §12)
+        modes.attrs["rayleigh_of"] = "superstructure on a fixed base, acting on its deformation"
     g.attrs["isolated"] = b.isolated
     if b.yielding is not None:
-        _write_yielding(g.create_group("yielding"), b.yielding)
+        yielding = g.create_group("yielding")
+        _write_yielding(yielding, b.yielding)
+        for name in ("ductility", "residual_deflection"):  # hard links: one dataset, two names
+            peaks[name] = yielding[name]
 
 
 def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
@@ -176,8 +181,10 @@ def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
     _dataset(g, "force", y.force, "N", description="member shear force", **common)
     _dataset(g, "peak", y.peak, "m, m, m, N, N, N", columns="|dx|, |dy|, |d|, |fx|, |fy|, |f|",
              axes="member local x, y")  # fmt: skip
-    _dataset(g, "ductility", y.ductility, "-", columns="x, y", description="peak |deflection| / yield deflection")
-    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y",
+    rows = "the yielding members, as in yielding/members (also reachable as peaks/<this name>)"
+    _dataset(g, "ductility", y.ductility, "-", columns="x, y", rows=rows,
+             description="peak |deflection| / yield deflection")  # fmt: skip
+    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y", rows=rows,
              description="deflection at rest once the motion has died away elastically from the final state")  # fmt: skip
 
 

@@ -48,14 +48,14 @@ CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
 
 
 @kernel
-def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k, bottom, top,
+def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top,
                 ground, ground_dt, g):  # fmt: skip
     """K·u, C·v and the accelerations (absolute and relative) at time t from the state (u, v)
     and the members' plastic correction g. Returns the ground acceleration (X, Y) at t."""
     agx, agy = ground_at(t, ground, ground_dt)
     n_dof = mass.size
     storey_matvec_pair(u, v, storey_k, bottom, top, ku, kv)
-    damping_force(v, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    damping_force(v, kv, mass, damping, n_dof, cv)
     for d in range(n_dof):
         a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
     for d in range(0, n_dof, 3):
@@ -94,7 +94,7 @@ def hybrid_advance(
     # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
     # everything cdm.advance takes after its first five arguments
-    mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+    mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
     u, v_half, ku, cv_half, acc,
     peak_col, peak_rot, peak_disp, peak_acc,
@@ -121,7 +121,7 @@ def hybrid_advance(
             if has_members:  # elastic unless the last substep overshot the yield surface
                 dissipated, yielded = update_members(u, members, plastic, g)
                 acc[ACC_HYSTERETIC] += dissipated
-            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k,
+            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g)  # fmt: skip
             p_in = 0.0
             p_damp = 0.0
@@ -162,13 +162,13 @@ def hybrid_advance(
                 v_half[d] = v_exact[d] - 0.5 * dt * a_rel[d]
                 dv[d] = dt * a_rel[d]
             storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
-            damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_half)
+            damping_force(v_half, z, mass, damping, n_dof, cv_half)
             acc[ACC_FRESH] = 1.0  # t_k is already integrated
             mode[0] = MODE_CDM
             counters[CNT_SWITCHES] += 1
         # CDM through this substep
         status, _ = advance(k * sub, (k + 1) * sub, dt, stride_h * sub, u_limit,
-                            mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+                            mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
                             peak_col, peak_rot, peak_disp, peak_acc,
@@ -190,7 +190,7 @@ def hybrid_advance(
             if has_members:
                 plastic_correction(members, plastic, g)
                 solve_blocks(kinv, dof_start, dof_count, g, u_static)
-            _leave_cdm((k + 1) * h, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
+            _leave_cdm((k + 1) * h, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping,
                        storey_k, storey_bottom, storey_top, binv, dof_start, dof_count, ground, ground_dt,
                        acc, cv_next, g)  # fmt: skip
             mode[0] = MODE_EXACT
@@ -199,7 +199,7 @@ def hybrid_advance(
 
 
 @kernel
-def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1, storey_k, bottom, top,
+def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping, storey_k, bottom, top,
                binv, dof_start, dof_count, ground, ground_dt, acc, cv, g):  # fmt: skip
     """v_n = v_{n−½} + Δv_n/2 at t_n (no contact force), close the energy account up to t_n."""
     n_dof = mass.size
@@ -213,7 +213,7 @@ def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, 
     for d in range(n_dof):
         v_exact[d] = v_half[d] + 0.5 * dv[d]
     storey_matvec(v_exact, storey_k, bottom, top, kv)
-    damping_force(v_exact, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    damping_force(v_exact, kv, mass, damping, n_dof, cv)
     p_in = 0.0
     p_damp = 0.0
     for d in range(0, n_dof, 3):
