@@ -222,17 +222,21 @@ def _number(value: Any) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
+def _tighter(node: dict[str, Any], inclusive: str, exclusive: str, larger: bool) -> tuple[str, str] | None:
+    """The binding one of a bound given both ways (pydantic writes `exclusiveMinimum: 0` for
+    a positive type and `minimum: 1` for ge=1 on it): the one that excludes more, with "<" if
+    it is the exclusive one (and at a tie, since it then excludes the bound itself)."""
+    given = [(node[k], k == exclusive) for k in (inclusive, exclusive) if k in node]
+    if not given:
+        return None
+    value, strict = max(given, key=lambda b: (b[0] if larger else -b[0], b[1]))
+    return _number(value), "<" if strict else "≤"
+
+
 def _bounds(node: dict[str, Any], subject: str) -> str | None:
     """Numeric bounds: "> 0", "≥ 1", "0 ≤ poisson_ratio < 0.5"."""
-    low = high = None
-    if "exclusiveMinimum" in node:
-        low = (_number(node["exclusiveMinimum"]), "<")
-    elif "minimum" in node:
-        low = (_number(node["minimum"]), "≤")
-    if "exclusiveMaximum" in node:
-        high = (_number(node["exclusiveMaximum"]), "<")
-    elif "maximum" in node:
-        high = (_number(node["maximum"]), "≤")
+    low = _tighter(node, "minimum", "exclusiveMinimum", larger=True)
+    high = _tighter(node, "maximum", "exclusiveMaximum", larger=False)
     if low and high:
         return f"{low[0]} {low[1]} {subject} {high[1]} {high[0]}"
     if low:
@@ -365,7 +369,7 @@ def model_fields_markdown() -> str:
         "`damping = { ratios = [0.05, 0.05], modes = [1, 3] }`.",
         "",
         "Checks that involve several fields (exactly one of `mass` and `mass_per_area`, "
-        "columns under the slab, names that must match, …) are described in the "
+        "columns under the slab, the mass centre on it, names that must match, …) are described in the "
         "[user guide](../user-guide.md#concepts).",
         "",
         "| Section | TOML | Path in error messages |",

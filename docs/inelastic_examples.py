@@ -77,7 +77,8 @@ def member_rows(run: object, building: str) -> dict[str, float]:
         out["max_ductility"] = float(duct.max())
         out["yielded"] = int((duct.max(axis=1) > 1).sum())
         out["members"] = int(cols.sum())
-        out["residual_mm"] = float(1e3 * np.abs(y.residual_deflection[cols]).max())
+        out["residual_mm"] = float(1e3 * np.hypot(*y.residual_deflection[cols].T).max())  # resultant
+        out["residual_axis_mm"] = float(1e3 * np.abs(y.residual_deflection[cols]).max())  # one local axis
     if iso.any():
         out["iso_disp_mm"] = float(1e3 * y.peak[iso, 2].max())
         out["iso_force_kN"] = float(1e-3 * y.peak[iso, 5].max())
@@ -89,6 +90,36 @@ def drift_mm(run: object, building: str, first_storey: int = 0) -> float:
     """Largest peak interstorey deflection (x or y) over the building's columns, mm."""
     d = run.buildings[building].interstorey_deflection[:, first_storey:, :2]
     return float(1e3 * np.nanmax(d))
+
+
+def isolated_mode_damping() -> dict[str, float]:
+    """The isolated building of inputs/isolated_moat.toml with its bearings on K2: the period of
+    its first (isolated) mode and of its fourth (the superstructure's, on the bearings), and
+    their damping ratios φᵀCφ/(2ω) from pound's C and from the former Rayleigh damping of the
+    whole building on K1 (modes 1 and 3), as tests/test_isolation_damping.py computes them."""
+    import scipy.linalg
+
+    from pounding_cli import load_model
+    from pounding_cli.api import prepare
+    from pounding_cli.assembly.modal import rayleigh_coefficients
+    from pounding_cli.solver.integrate import damping_blocks
+
+    scene = prepare(load_model(ROOT / "inputs" / "isolated_moat.toml"))
+    b = scene.system.buildings[0]
+    c = damping_blocks(scene.system)[0]
+    k2 = b.stiffness.copy()
+    k2[:3, :3] -= 0.9 * b.storey_k[0][3:, 3:]  # K2 = 0.1·K1
+    omega2, phi = scipy.linalg.eigh(k2, np.diag(b.mass))
+    omega = np.sqrt(omega2)
+    w = b.modes.omega
+    a0, a1 = rayleigh_coefficients(w[0], w[2], 0.05, 0.05)
+    c_old = a0 * np.diag(b.mass) + a1 * b.stiffness
+
+    def ratio(cc: np.ndarray, n: int) -> float:
+        return float(phi[:, n] @ cc @ phi[:, n] / (2 * omega[n]))
+
+    return {"period": float(2 * np.pi / omega[0]), "new": ratio(c, 0), "old": ratio(c_old, 0),
+            "period_super": float(2 * np.pi / omega[3]), "new_super": ratio(c, 3)}  # fmt: skip
 
 
 def energy_shares(run: object) -> dict[str, float]:
@@ -123,6 +154,7 @@ def main() -> None:
 
 
 def page(inelastic, linear, cases: dict, outcome) -> str:
+    d = isolated_mode_damping()
     m = member_rows(inelastic, "left")
     mr = member_rows(inelastic, "right")
     e = energy_shares(inelastic)
@@ -161,13 +193,17 @@ its elastic stiffness, on an elliptical yield surface.
 | right: largest peak interstorey deflection (mm) | {drift_mm(linear, 'right'):.1f} | {drift_mm(inelastic, 'right'):.1f} |
 | left: columns that yielded / largest ductility | – | {m['yielded']} of {m['members']} / {m['max_ductility']:.2f} |
 | right: columns that yielded / largest ductility | – | {mr['yielded']} of {mr['members']} / {mr['max_ductility']:.2f} |
-| largest residual column deflection (mm) | – | {max(m['residual_mm'], mr['residual_mm']):.2f} |
+| left / right: largest residual column deflection, resultant (mm) | – | {m['residual_mm']:.2f} / {mr['residual_mm']:.2f} |
 | energy dissipated: damping / hysteresis / contact | {100 * energy_shares(linear)['damping']:.0f} % / – / {100 * energy_shares(linear)['contact']:.1f} % | {100 * e['damping']:.0f} % / {100 * e['hysteretic']:.0f} % / {100 * e['contact']:.1f} % |
 | energy balance error (of the input) | {linear.balance_error_ratio:.1e} | {inelastic.balance_error_ratio:.1e} |
 | solver time (s) | {linear.diagnostics['wall_time_s']:.2f} | {inelastic.diagnostics['wall_time_s']:.2f} |
 
-Ductility is a member's peak deflection over its yield deflection (above 1: it yielded);
-the residual deflection is where the column comes to rest once the motion dies away.
+Ductility is a member's peak deflection over its yield deflection along one of its local axes
+(above 1: it yielded); the residual deflection is where the column comes to rest once the
+motion dies away, given here as the resultant √(δ_x² + δ_y²) of its two local axes, as
+`pound run`'s summary (`largest residual |δ|`) and the sweep's `max_residual_deflection_m[B]`
+give it. Along a single local axis the largest is {m['residual_axis_mm']:.2f} mm (left) and
+{mr['residual_axis_mm']:.2f} mm (right); `/buildings/<b>/peaks/residual_deflection` holds both axes.
 
 ![Column C9 of the left building: force against deflection](images/inelastic-column-loop.png)
 
@@ -180,6 +216,16 @@ the residual deflection is where the column comes to rest once the motion dies a
 Q = 17.5 kN: an isolated period of about 2.5 s, Q = 5 % of the weight), inside a moat wall;
 its floors are level with those of a fixed-base 3-storey neighbour 8 cm away (the wall lies below the neighbour's first floor: only bodies at one level meet).
 `inputs/isolated_moat.sweep.toml` runs it at moat gaps of 5 to 40 cm and without contact.
+
+Its 5 % Rayleigh damping is the superstructure's, fitted to the superstructure's modes on a
+fixed base and acting on its deformation only; the isolation system is damped by the bearings'
+hysteresis (no viscous `isolation.damping_ratio`), the standard practice for base-isolated
+buildings ([theory §12](theory.md#damping-of-an-isolated-building); Ryan & Polanco 2008).
+The isolated mode ({d['period']:.2f} s with the bearings on K2) thus gets {100 * d['new']:.3f} % of
+critical from viscous damping, where Rayleigh damping of the whole building on the bearings'
+initial stiffness gave it {100 * d['old']:.1f} %; the superstructure's mode on the bearings
+({d['period_super']:.2f} s) gets {100 * d['new_super']:.1f} %.
+
 Isolator columns: peak resultant displacement, peak resultant force and residual displacement
 of the worst bearing; moat impacts and their peak force; impacts with the neighbour; the
 largest superstructure drift (storeys above the isolation storey) and the neighbour's; the
@@ -218,6 +264,12 @@ def findings(cases: dict) -> str:
         f"With a 40 cm moat the slab never reaches the wall, but the floors, free to move with the bearings, "
         f"hit the neighbour {hits(wide, 'neighbour')} times across its 8 cm joint (superstructure drift "
         f"{drift_mm(wide, 'isolated', 1):.1f} mm): the moat gap and the joint to a neighbour must be chosen together."
+        + "".join(
+            f" With a {name.removeprefix('gap ')} moat it hits both in one run: the wall {hits(run, 'isolated.moat')} "
+            f"times and the neighbour {hits(run, 'neighbour')} times."
+            for name, run in cases.items()
+            if hits(run, "isolated.moat") and hits(run, "neighbour")
+        )
     )
 
 

@@ -21,7 +21,6 @@ import numpy as np
 
 from . import __version__
 from .assembly import (
-    AUTO_DT_FRACTION,
     ContactArrays,
     GroundMotion,
     System,
@@ -31,6 +30,8 @@ from .assembly import (
     ground_motion,
     time_grid,
 )
+from .assembly.timestep import governing_rule, stability_limit
+from .assembly.damping import modal_damping_ratios
 from .errors import InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
@@ -139,9 +140,12 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     scene = prepare(model)
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     m = loaded.model
+    yielding = system.members.top.size > 0
+    rule = governing_rule(grid.stability_limit, grid.contact_limit, yielding)
     buildings = []
     for bld, spec in zip(system.buildings, m.buildings):
         n = min(6, bld.modes.omega.size)
+        anchor = bld.rayleigh_modes or bld.modes
         masses = bld.mass.reshape(-1, 3)
         buildings.append(
             {
@@ -156,13 +160,20 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "yielding_columns": sum(mb.kind == "column" for mb in bld.members),
                 "periods_s": bld.modes.periods[:n].tolist(),
                 "participating_mass_ratio_x_y_theta": bld.modes.participation[:n].tolist(),
+                "damping_ratios": modal_damping_ratios(bld.damping, bld.modes.shapes[:, :n],
+                                                       bld.modes.omega[:n]).tolist(),  # fmt: skip
                 "rayleigh": {
                     "modes": list(spec.damping.modes),
                     "ratios": list(spec.damping.ratios),
+                    "of": "superstructure on a fixed base" if bld.isolated else "building",
+                    "anchor_periods_s": [float(anchor.periods[k - 1]) for k in spec.damping.modes],
                     "a0_per_s": bld.rayleigh[0],
                     "a1_s": bld.rayleigh[1],
                 },
+                "isolation": _isolation(spec, bld),
                 "omega_max_rad_s": float(bld.modes.omega[-1]),
+                "dt_limit_s": stability_limit(float(bld.modes.omega[-1])),
+                "moat": _moat(spec, m),
             }
         )
     contact = scene.contact
@@ -170,6 +181,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
         "file": str(loaded.source),
         "title": m.title,
         "buildings": buildings,
+        "bearings": [_bearing(name, bearing) for name, bearing in m.bearings.items()],
         "contact": {
             "enabled": m.contact.enabled,
             "pairs": [
@@ -181,12 +193,14 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "elevation_m": p.elevation,
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
+                    **pair_damping_and_friction(contact, i),
                 }
                 for i, p in enumerate(contact.pairs)
             ],
             "friction_static": m.contact.friction_static,
             "friction_kinetic": m.contact.friction_kinetic,
             "omega_max_rad_s": contact.omega_max,
+            "dt_limit_s": grid.contact_limit if contact.n_pairs else None,
         },
         "excitation": {
             "record": ground.record.name if ground.record is not None else "",
@@ -208,16 +222,75 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
         "analysis": {
             "integrator": grid.integrator,
             "dt_s": grid.dt,
-            "substep_s": grid.dt * grid.substep,
             "dt_auto": m.analysis.dt == "auto",
-            "dt_auto_fraction": AUTO_DT_FRACTION,
+            "dt_auto_fraction": rule[1],
+            "dt_limited_by": rule[0],
+            "yield_dt_s": grid.yield_dt if grid.substep and yielding else None,
             "stability_limit_s": grid.stability_limit,
             "contact_limit_s": grid.contact_limit if scene.contact.n_pairs else None,
+            "substep_s": grid.dt * grid.substep if grid.substep else None,
+            "cdm_steps_per_substep": grid.substep or None,
+            "steps": grid.n_steps // grid.substep if grid.substep else grid.n_steps,
+            "steps_of_dt": grid.n_steps,
             "output_interval_s": grid.output_interval,
             "duration_s": grid.duration,
-            "steps": grid.n_steps,
             "outputs": grid.n_outputs,
         },
+    }
+
+
+def _isolation(building: Any, bld: Any) -> dict[str, Any] | None:
+    """An isolated building's isolation system: its viscous damping ratio and the isolated
+    period 2π/ω_b on the bearings' post-yield stiffness at which it holds."""
+    if building.isolation is None:
+        return None
+    sum_k2 = sum(mb.stiffness[0] * mb.post_yield_ratio[0] for mb in bld.members if mb.kind == "isolator")
+    total = float(bld.mass[0::3].sum())
+    return {
+        "damping_ratio": building.isolation.damping_ratio,
+        "isolated_period_s": float(2 * np.pi * np.sqrt(total / sum_k2)) if sum_k2 > 0 else None,
+    }
+
+
+def _moat(building: Any, model: Any) -> dict[str, Any] | None:
+    """An isolated building's moat wall: its gap, thickness and wall segments (the contact
+    pairs they are in carry their resolved impact parameters)."""
+    iso = building.isolation
+    if iso is None or iso.moat is None:
+        return None
+    walls = [o.name for o in model.all_obstacles() if o.name.startswith(f"{building.name}.moat")]
+    return {"gap_m": iso.moat.gap, "thickness_m": iso.moat.thickness, "walls": walls,
+            "overrides": iso.moat.overrides()}  # fmt: skip
+
+
+def pair_damping_and_friction(contact: ContactArrays, i: int) -> dict[str, Any]:
+    """Friction and dashpots of contact pair i as resolved: [contact]'s, or an obstacle's or
+    moat wall's own."""
+    from .assembly.contact import restitution_of
+
+    zeta = float(contact.pair_zeta[i])
+    return {
+        "friction_static": float(contact.pair_mu_s[i]),
+        "friction_kinetic": float(contact.pair_mu_k[i]),
+        "restitution": restitution_of(zeta) if zeta > 0 else None,
+        "damping_ratio_normal": zeta,
+        "damping_normal_N_s_per_m": float(contact.pair_cn[i]),
+        "damping_tangential_N_s_per_m": float(contact.pair_ct[i]),
+    }
+
+
+def _bearing(name: str, bearing: Any) -> dict[str, Any]:
+    """A bearing type's bilinear law as resolved from the constants given."""
+    c = bearing.constants()
+    return {
+        "name": name,
+        "given": list(bearing.given()),
+        "initial_stiffness_N_per_m": c.k1,
+        "post_yield_stiffness_N_per_m": c.k2,
+        "characteristic_strength_N": c.q,
+        "yield_force_N": c.fy,
+        "yield_displacement_m": c.dy,
+        "interaction": bearing.interaction,
     }
 
 
@@ -256,9 +329,7 @@ def execute(
         yield_substep=grid.yield_substep,
     )  # fmt: skip
     diagnostics = {
-        "integrator": "hybrid (exact propagation, central difference around contacts)"
-        if grid.substep
-        else "central difference",
+        "integrator": grid.integrator,
         "dt": grid.dt,
         "substep": grid.dt * grid.substep,
         "yield_dt": grid.yield_dt,
@@ -268,7 +339,7 @@ def execute(
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,
         "output_interval": grid.output_interval,
-        "steps": response.steps,
+        "steps": exact_substeps + cdm_steps,
         "contact_steps": response.contact_steps,
         "contact_pairs": scene.contact.n_pairs,
         "impacts": response.events_total,
@@ -276,7 +347,7 @@ def execute(
         "n_dof": system.n_dof,
         "wall_time_s": response.wall_time,
         "compile_time_s": response.compile_time,
-        "us_per_step": 1e6 * response.wall_time / max(response.steps, 1),
+        "us_per_step": 1e6 * response.wall_time / max(exact_substeps + cdm_steps, 1),
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }

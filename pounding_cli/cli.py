@@ -15,13 +15,16 @@ from typing import Annotated, Any, Iterator
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from . import __version__
 from .errors import PoundError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
-out = Console(highlight=False)
+# plain lines are never hard-wrapped (a script reading stdout sees each one on its line);
+# tables are printed with soft_wrap=False, at the console's width
+out = Console(highlight=False, soft_wrap=True)
 # messages are never hard-wrapped: a script that greps stderr sees each one on its line
 err = Console(stderr=True, highlight=False, soft_wrap=True)
 
@@ -72,8 +75,10 @@ def main_options(
 
 @app.command(
     help="Check a model and print what it resolves to.\n\n"
-    "Masses, periods and participating mass, Rayleigh coefficients, the record and the "
-    "time step; --json prints the same as one JSON document."
+    "Per building: floor masses, periods and participating mass, Rayleigh coefficients and "
+    "its time-step limit; the contact candidates and their limit; the record; the time step, "
+    "which limit sets it and the steps the integrator will take. --json prints the same as one "
+    "JSON document."
 )
 def validate(model: ModelArg, json_: JsonOpt = False) -> None:
     """Check a model and print what it resolves to."""
@@ -102,7 +107,7 @@ def run(
     ] = None,
     json_: JsonOpt = False,
     progress: Annotated[
-        bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
+        bool | None, typer.Option("--progress/--no-progress", help="Progress on stderr: a bar on a terminal, else a line per 10 % (default: on when stderr is a terminal).")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists.")] = False,
 ) -> None:
@@ -131,7 +136,9 @@ def run(
     "Every case is checked before any runs; a bad path or value exits 2 naming the case and "
     "the field. Each case's results go to OUTPUT/cases/<hash>.h5 (as `pound run` writes them), "
     "and OUTPUT/summary.csv and summary.h5 get one row per case. Rerunning skips the cases "
-    "already complete. Runs on local processes (--jobs, default all cores) or a Dask cluster "
+    "already complete (matched by their inputs and pound's version number, which stays the same "
+    "while a development install's code changes: after updating or changing pound, give a fresh "
+    "OUTPUT). Runs on local processes (--jobs, default all cores) or a Dask cluster "
     "(--scheduler, --scheduler-file). Exits 1 if a case failed."
 )
 def sweep(
@@ -436,7 +443,7 @@ def report(
         if warning:
             out.print(f"[bold red]{warning}[/bold red]")
         for spec in tables:
-            out.print(rich_table(spec))
+            out.print(rich_table(spec), soft_wrap=False)
 
 
 def _run_report(paths, column, plots, fmt, html, floors, magnify, animation):
@@ -471,8 +478,13 @@ def _sweep_report(folder, column, plots, fmt, html, x, ys, cases, studies):
 
 @contextmanager
 def _progress_bar(show: bool) -> Iterator[Any]:
+    """The progress callback of a run: a rich bar when stderr is a terminal; otherwise (a log
+    file, a pipe, a batch job that asked for --progress) one plain line per tenth done."""
     if not show:
         yield None
+        return
+    if not err.is_terminal:
+        yield _progress_lines()
         return
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
@@ -486,6 +498,21 @@ def _progress_bar(show: bool) -> Iterator[Any]:
             bar.update(task, completed=done, total=total)
 
         yield update
+
+
+def _progress_lines(step: int = 10) -> Any:
+    """A progress callback that prints "integrating: 40 %" on stderr each time another `step`
+    per cent is done (a line a reader of a log can follow, with no terminal codes)."""
+    shown = [-1]
+
+    def update(done: int, total: int) -> None:
+        percent = 100 * done // max(total, 1)
+        if percent // step > shown[0]:
+            shown[0] = percent // step
+            err.print(f"integrating: {step * shown[0]} %", markup=False)
+            err.file.flush()
+
+    return update
 
 
 def run_summary(result: Any) -> dict[str, Any]:
@@ -515,8 +542,9 @@ def run_summary(result: Any) -> dict[str, Any]:
         "output": str(result.output) if result.output else None,
         "input_sha256": result.input_sha256,
         "duration_s": float(result.time[-1]) if result.time.size else 0.0,
-        "integrator": d.get("integrator", "").split(" ")[0],
+        "integrator": d.get("integrator"),
         "dt_s": d.get("dt"),
+        "substep_s": d.get("substep") or None,
         "steps": d.get("steps"),
         "exact_substeps": d.get("exact_substeps", 0),
         "cdm_steps": d.get("cdm_steps", 0),
@@ -531,18 +559,21 @@ def run_summary(result: Any) -> dict[str, Any]:
 
 
 def _yielding_summary(y: Any) -> list[dict[str, Any]]:
-    """Per kind of yielding member (column, isolator): how many yielded, and the one with the
+    """Per kind of yielding member (column, isolator): how many yielded, the one with the
     largest ductility (peak |δ| along a local axis over δ_y) with its peak resultant
-    deflection |δ| and residual deflection, m."""
+    deflection |δ| and residual deflection, and the one with the largest residual deflection;
+    deflections are resultants √(δ_x² + δ_y²), m."""
     import numpy as np
 
     ductility = y.ductility.max(axis=1)
+    residual = np.hypot(y.residual_deflection[:, 0], y.residual_deflection[:, 1])
     out = []
     for kind in ("column", "isolator"):
         index = np.flatnonzero(y.members["kind"] == kind)
         if index.size == 0:
             continue
         worst = int(index[np.argmax(ductility[index])])
+        most_bent = int(index[np.argmax(residual[index])])
         out.append({
             "kind": kind,
             "members": int(index.size),
@@ -552,23 +583,33 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
                 "storey": int(y.members["storey"][worst]),
                 "ductility": float(ductility[worst]),
                 "peak_deflection_m": float(y.peak[worst, 2]),
-                "residual_deflection_m": float(np.hypot(*y.residual_deflection[worst])),
+                "residual_deflection_m": float(residual[worst]),
+            },
+            "largest_residual": {
+                "member": str(y.members["name"][most_bent]),
+                "storey": int(y.members["storey"][most_bent]),
+                "residual_deflection_m": float(residual[most_bent]),
             },
         })  # fmt: skip
     return out
 
 
 def _print_summary(s: dict[str, Any]) -> None:
-    out.print(f"[bold]{s['status']}[/bold]  →  {s['output']}")
+    out.print(f"[bold]{escape(s['status'])}[/bold]  →  {escape(str(s['output']))}")
+    if s["integrator"] == "hybrid":
+        how = (f"hybrid: {s['exact_substeps']:,} exact substeps of {s['substep_s']:.4g} s, "
+               f"{s['cdm_steps']:,} CDM steps of {s['dt_s']:.4g} s")  # fmt: skip
+    else:
+        how = f"{s['integrator']}, Δt = {s['dt_s']:.4g} s"
     out.print(
-        f"{s['duration_s']:.2f} s simulated in {s['steps']} steps ({s['integrator']}); "
+        f"{s['duration_s']:.2f} s simulated in {s['steps']:,} steps ({how}); "
         f"solver {s['solver_wall_time_s']:.3f} s ({s['us_per_step']:.2f} µs/step); "
         f"energy balance error {100 * s['energy_balance_error']:.3g} % of input",
         markup=False,
     )
     out.print(
         f"impacts: {s['impacts']}" + (f", peak normal force {s['peak_impact_force_N'] / 1e3:.4g} kN, "
-        f"{s['contact_steps']} steps in contact" if s["impacts"] else ""),
+        f"{s['contact_steps']:,} steps in contact" if s["impacts"] else ""),
         markup=False,
     )  # fmt: skip
     table = Table(title="Peak interstorey deflection (building axes)")
@@ -581,37 +622,77 @@ def _print_summary(s: dict[str, Any]) -> None:
             where = f"{p['column']}, storey {p['storey']}" if p and "column" in p else f"storey {p['storey']}" if p else ""
             cells.append(f"{scale * p['value']:.3g} ({where})" if p else "-")
         table.add_row(b["name"], *cells)
-    out.print(table)
+    out.print(table, soft_wrap=False)
     for b in s["buildings"]:
         for group in b.get("yielding", []):
-            w = group["largest_ductility"]
+            w, r = group["largest_ductility"], group["largest_residual"]
             out.print(
                 f"{b['name']}: {group['yielded']} of {group['members']} {group['kind']}s yielded; largest "
                 f"ductility {w['ductility']:.3g} ({w['member']}, storey {w['storey']}: peak |δ| "
-                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm)",
+                f"{1e3 * w['peak_deflection_m']:.3g} mm, residual {1e3 * w['residual_deflection_m']:.3g} mm); "
+                f"largest residual |δ| {1e3 * r['residual_deflection_m']:.3g} mm ({r['member']}, storey {r['storey']})",
                 markup=False,
             )
 
 
+def _floor_groups(b: dict[str, Any]) -> list[str]:
+    """'floors 1-4: m = 64 t, J = 6.827e+05 kg·m²', one line per run of alike floors."""
+    rows = list(zip(b["floor_masses_kg"], b["rotational_inertia_kgm2"]))
+    lines, first = [], 0
+    for i in range(1, len(rows) + 1):
+        if i == len(rows) or rows[i] != rows[first]:
+            which = f"floor {first + 1}" if i == first + 1 else f"floors {first + 1}-{i}"
+            lines.append(f"{which}: m = {rows[first][0] / 1e3:.6g} t, J = {rows[first][1]:.4g} kg·m²")
+            first = i
+    return lines
+
+
 def _print_description(info: dict[str, Any]) -> None:
-    out.print(f"[bold]{info['title'] or info['file']}[/bold]")
+    out.print(f"[bold]{escape(info['title'] or info['file'])}[/bold]")
     for b in info["buildings"]:
         storeys = f"{b['storeys']} storey" + ("s" if b["storeys"] != 1 else "")
-        out.print(f"[bold]building {b['name']}[/bold]: {storeys}, {b['height_m']:g} m, "
+        out.print(f"[bold]building {escape(b['name'])}[/bold]: {storeys}, {b['height_m']:g} m, "
                   f"{b['total_mass_kg'] / 1e3:.6g} t, {b['columns']} column lines"
                   + (f" ({b['yielding_columns']} yielding column instances)" if b["yielding_columns"] else "")
                   + (f"; base-isolated on {b['isolators']} isolators (storey 1, floor 1 = base slab)"
-                     if b["isolators"] else ""))  # fmt: skip
+                     if b["isolators"] else "")
+                  + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
+                     if b["moat"] else ""))  # fmt: skip
+        for line in _floor_groups(b):
+            out.print(f"  {line}", markup=False)
         table = Table()
-        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ"):
+        for col in ("mode", "period (s)", "mass x", "mass y", "mass θ", "ζ"):
             table.add_column(col, justify="right")
-        for i, (t, p) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"])):
-            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p))
-        out.print(table)
+        for i, (t, p, z) in enumerate(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"],
+                                          b["damping_ratios"])):  # fmt: skip
+            table.add_row(str(i + 1), f"{t:.4f}", *(f"{100 * v:.1f} %" for v in p), f"{100 * z:.2f} %")
+        out.print(table, soft_wrap=False)
         r = b["rayleigh"]
+        of = "" if r["of"] == "building" else f" of the {r['of']} (periods {', '.join(f'{t:.4f}' for t in r['anchor_periods_s'])} s)"
         out.print(
-            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}"
+            f"  Rayleigh: ζ = {r['ratios'][0]:g}, {r['ratios'][1]:g} at modes {r['modes'][0]}, {r['modes'][1]}{of}"
             f" → a0 = {r['a0_per_s']:.5g} 1/s, a1 = {r['a1_s']:.5g} s",
+            markup=False,
+        )
+        out.print(f"  Δt limit (CDM): 2/ω_max = {b['dt_limit_s']:.4g} s (ω_max = {b['omega_max_rad_s']:.4g} rad/s)",
+                  markup=False)  # fmt: skip
+        iso = b["isolation"]
+        if iso is not None:
+            period = f" at T_b = {iso['isolated_period_s']:.4g} s (on K2)" if iso["isolated_period_s"] else ""
+            out.print(
+                f"  isolation: viscous ζ_b = {iso['damping_ratio']:g}{period}; the Rayleigh damping acts on the "
+                "superstructure's deformation only, the bearings damp by their hysteresis",
+                markup=False,
+            )
+    from .model.inelastic import BEARING_FIELDS
+
+    for bearing in info["bearings"]:
+        given = ", ".join(BEARING_FIELDS[k] for k in bearing["given"])
+        out.print(
+            f"bearing {bearing['name']}: K1 = {bearing['initial_stiffness_N_per_m'] / 1e6:.4g} MN/m, "
+            f"K2 = {bearing['post_yield_stiffness_N_per_m'] / 1e6:.4g} MN/m, Q = {bearing['characteristic_strength_N'] / 1e3:.4g} kN, "
+            f"F_y = {bearing['yield_force_N'] / 1e3:.4g} kN, d_y = {bearing['yield_displacement_m'] * 1e3:.4g} mm "
+            f"(given {given}; {bearing['interaction']})",
             markup=False,
         )
     c = info["contact"]
@@ -620,14 +701,17 @@ def _print_description(info: dict[str, Any]) -> None:
     elif not c["pairs"]:
         out.print("contact: no floors share a level, so nothing can touch", markup=False)
     else:
-        kn = sorted({p["k_normal_N_per_m2"] for p in c["pairs"]})
-        kt = sorted({p["k_tangential_N_per_m"] for p in c["pairs"]})
-        out.print(
-            f"contact: {len(c['pairs'])} candidate pairs; k_N = {', '.join(f'{k / 1e3:.4g}' for k in kn)} kN/m², "
-            f"k_T = {', '.join(f'{k / 1e3:.4g}' for k in kt)} kN/m; μ_s = {c['friction_static']:g}, "
-            f"μ_k = {c['friction_kinetic']:g}",
-            markup=False,
-        )
+        out.print(f"contact: {len(c['pairs'])} candidate pairs", markup=False)
+        groups: dict[str, list[str]] = {}  # the pairs' kinds by their resolved impact parameters
+        for p in c["pairs"]:
+            kind = "floor–" + ("floor" if p["floor_b"] else p["body_b"])
+            kinds = groups.setdefault(_impact_parameters(p), [])
+            if kind not in kinds:
+                kinds.append(kind)
+        for text, kinds in groups.items():
+            out.print(f"  {', '.join(kinds)}: {text}", markup=False)
+        out.print(f"  Δt limit (CDM, in contact): 2/ω_contact = {c['dt_limit_s']:.4g} s (ω_contact = "
+                  f"{c['omega_max_rad_s']:.4g} rad/s, an upper estimate)", markup=False)  # fmt: skip
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
@@ -637,22 +721,56 @@ def _print_description(info: dict[str, Any]) -> None:
     )
     for note in e["notes"]:
         out.print(f"  note: {note}", markup=False)
-    a = info["analysis"]
-    how = f"auto: {a['dt_auto_fraction']:g} × 2/ω_max" if a["dt_auto"] else "given"
-    limits = f"stability limit {a['stability_limit_s']:.4g} s"
-    if a.get("contact_limit_s"):
-        limits += f", contact {a['contact_limit_s']:.4g} s"
+    _print_analysis(info["analysis"], info["buildings"])
+
+
+def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
+    """The time grid: which limit sets Δt, and the steps the integrator takes."""
+    stiffest = min(buildings, key=lambda b: b["dt_limit_s"])["name"]
+    structure = f"{a['stability_limit_s']:.4g} s, building {stiffest}"
+    contact = f"{a['contact_limit_s']:.4g} s" if a["contact_limit_s"] else None
+    fraction = f"{a['dt_auto_fraction']:g}"
+    if not a["dt_auto"]:
+        why = f"given — below the structure's limit 2/ω_max ({structure})"
+        if contact:
+            above = a["dt_s"] >= a["contact_limit_s"]
+            why += f"; {'above' if above else 'below'} the contact's 2/ω_contact ({contact})"
+            why += ": impacts may go unstable" if above else ""
+    elif a["dt_limited_by"] == "contact":
+        why = f"auto, {fraction} × 2/ω_contact — the contact limit governs ({contact}; the structure's: {structure})"
+    else:
+        why = f"auto, {fraction} × 2/ω_max — the structure's limit governs ({structure}"
+        why += f"; the contact's: {contact})" if contact else "; no contact candidates)"
+    if a["dt_auto"]:
+        why += ", shortened to " + ("divide the substep" if a["integrator"] == "hybrid" else "fit the output interval")
+    out.print(f"analysis: {a['duration_s']:g} s, output every {a['output_interval_s']:g} s", markup=False)
+    out.print(f"  Δt = {a['dt_s']:.4g} s: {why}", markup=False)
     if a["integrator"] == "hybrid":
         out.print(
-            f"integrator: hybrid — exact substeps of {a['substep_s']:.4g} s while no contact is possible, "
-            f"the central difference method at Δt below",
+            f"  integrator: hybrid — {a['steps']:,} exact substeps of {a['substep_s']:.4g} s while no contact is "
+            f"possible; the CDM at Δt where one is ({a['cdm_steps_per_substep']:,} steps per substep; "
+            f"{a['steps_of_dt']:,} steps of Δt would span the whole {a['duration_s']:g} s)",
             markup=False,
         )
-    out.print(
-        f"analysis: Δt = {a['dt_s']:.4g} s ({how}; {limits}), "
-        f"{a['steps']} steps over {a['duration_s']:g} s, output every {a['output_interval_s']:g} s",
-        markup=False,
-    )
+        if a["yield_dt_s"]:
+            out.print(f"  where only yielding members need the CDM: Δt = {a['yield_dt_s']:.4g} s "
+                      f"(the structure's limit × the yielding fraction)", markup=False)  # fmt: skip
+    else:
+        out.print(f"  integrator: cdm — the central difference method, {a['steps']:,} steps of Δt", markup=False)
+
+
+def _impact_parameters(p: dict[str, Any]) -> str:
+    """A contact pair's resolved impact parameters in words."""
+    if p["restitution"] is not None:
+        normal = f"normal dashpot for e = {p['restitution']:.3g} (ζ = {p['damping_ratio_normal']:.4g})"
+    elif p["damping_normal_N_s_per_m"]:
+        normal = f"normal dashpot {p['damping_normal_N_s_per_m']:.4g} N·s/m"
+    else:
+        normal = "no normal dashpot"
+    tangential = p["damping_tangential_N_s_per_m"]
+    return (f"k_N = {p['k_normal_N_per_m2'] / 1e3:.4g} kN/m², k_T = {p['k_tangential_N_per_m'] / 1e3:.4g} kN/m; "
+            f"μ_s = {p['friction_static']:g}, μ_k = {p['friction_kinetic']:g}; {normal}"
+            + (f", tangential dashpot {tangential:.4g} N·s/m" if tangential else ""))  # fmt: skip
 
 
 def _print_record(s: dict[str, Any]) -> None:
@@ -685,7 +803,7 @@ def _print_record(s: dict[str, Any]) -> None:
     ]
     for label, cell in rows:
         table.add_row(label, *(cell(c) for c in s["components"]))
-    out.print(table)
+    out.print(table, soft_wrap=False)
     if s["scale_factor"] != 1.0:
         out.print(f"scale factor: {s['scale_factor']:.6g}", markup=False)
     for note in s["notes"]:

@@ -89,3 +89,32 @@ def momenta(structure, displacement: np.ndarray, velocity: np.ndarray) -> np.nda
     py = (m * v[:, :, 1]).sum(axis=1)
     lz = (j * v[:, :, 2] + m * (g[:, :, 0] * v[:, :, 1] - g[:, :, 1] * v[:, :, 0])).sum(axis=1)
     return np.column_stack([px, py, lz])
+
+
+def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The solver's contact kernel at one configuration q (n_dof,) of the free slabs, at rest:
+    (generalized forces on the slabs (n_dof,): F_x, F_y and the moment about each displaced
+    mass centre, N and N·m; per-pair values (n_pairs, 6) as contact.NOW_COLUMNS). A fresh
+    contact state each call, velocities zero: no dashpot force and no friction increment,
+    only the normal law F_N = k_N·A_c at the overlap's centroid."""
+    from pounding_cli.solver import contact as kernel
+    from pounding_cli.solver.broad_phase import sweep_arrays
+    from pounding_cli.solver.integrate import bounding_boxes
+
+    n_dof = structure.mass.size
+    c = contact
+    box = bounding_boxes(c)
+    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box)
+    params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
+              c.pair_ct, c.pair_meff)  # fmt: skip
+    n_pairs = c.pair_a.size
+    u = np.zeros(n_dof + 3)
+    u[:n_dof] = q
+    still = np.zeros(n_dof + 3)
+    now = np.zeros((n_pairs, len(kernel.NOW_COLUMNS)))
+    forces = np.zeros(n_dof + 3)
+    kernel.contact_forces(0, 1.0, u, still, still, geometry, params, np.zeros((n_pairs, 4)), now,
+                          np.zeros((4, kernel.EV_COLUMNS)), np.zeros(1, dtype=np.int64), forces,
+                          sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, False),
+                          *kernel.buffers(int(c.body_poly.shape[1])))  # fmt: skip
+    return forces[:n_dof], now

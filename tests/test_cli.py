@@ -45,10 +45,46 @@ def test_validate_json():
 
 
 def test_validate_prints_periods_and_time_step():
-    r = runner.invoke(app, ["validate", str(EXAMPLE)], env={"COLUMNS": "120"})
+    """Per building: floor masses, periods, Rayleigh, its own Δt limit; then which limit sets Δt
+    and what the default (hybrid) integrator will take. Plain lines are never wrapped, even at
+    80 columns (a pipe); the numbers are the JSON's."""
+    r = runner.invoke(app, ["validate", str(EXAMPLE)], env={"COLUMNS": "80"})
     assert r.exit_code == 0
-    for words in ("building left", "0.4466", "Rayleigh", "a0 =", "stability limit", "PGA X"):
-        assert words in r.stdout
+    info = json.loads(runner.invoke(app, ["validate", str(EXAMPLE), "--json"]).stdout)
+    left, right = info["buildings"]
+    a = info["analysis"]
+    assert left["dt_limit_s"] == pytest.approx(2 / left["omega_max_rad_s"], rel=1e-15)
+    assert a["stability_limit_s"] == min(left["dt_limit_s"], right["dt_limit_s"]) == right["dt_limit_s"]
+    assert a["dt_limited_by"] == "contact" and a["contact_limit_s"] < a["stability_limit_s"]
+    assert a["dt_s"] <= a["dt_auto_fraction"] * a["contact_limit_s"]
+    lines = r.stdout.splitlines()
+    for line in ("  floors 1-4: m = 64 t, J = 6.827e+05 kg·m²", "  floors 1-3: m = 128 t, J = 3.413e+06 kg·m²",
+                 f"  Δt limit (CDM): 2/ω_max = {left['dt_limit_s']:.4g} s (ω_max = {left['omega_max_rad_s']:.4g} rad/s)",
+                 f"  Δt limit (CDM): 2/ω_max = {right['dt_limit_s']:.4g} s (ω_max = {right['omega_max_rad_s']:.4g} rad/s)",
+                 "  Rayleigh: ζ = 0.05, 0.05 at modes 1, 3 → a0 = 0.8242 1/s, a1 = 0.0029439 s"):  # fmt: skip
+        assert line in lines, r.stdout
+    (dt_line,) = [ln for ln in lines if ln.startswith("  Δt = ")]
+    assert dt_line.startswith("  Δt = 2.137e-05 s: auto, 0.05 × 2/ω_contact — the contact limit governs (0.0004275 s; "
+                              "the structure's: 0.01219 s, building right)")  # fmt: skip
+    (hybrid,) = [ln for ln in lines if ln.startswith("  integrator: ")]
+    assert f"hybrid — {a['steps']:,} exact substeps of 0.001111 s" in hybrid and a["steps"] == 30600
+    assert f"{a['steps_of_dt']:,} steps of Δt would span the whole 34 s" in hybrid
+    assert any(ln.startswith("excitation: ") and ln.endswith("PGA X 0.526 g, Y 0.471 g") for ln in lines)
+    assert max(map(len, lines)) > 80  # long lines kept whole
+
+
+def test_validate_names_the_structure_limit_without_contact(tmp_path):
+    doc = tomllib.loads(EXAMPLE.read_text())
+    doc["contact"] = {"enabled": False}
+    doc["analysis"]["integrator"] = "cdm"
+    model = tmp_path / "m.json"
+    model.write_text(json.dumps(doc))
+    (tmp_path / "records").symlink_to(INPUTS / "records")
+    r = runner.invoke(app, ["validate", str(model)])
+    assert r.exit_code == 0, r.output
+    assert ("  Δt = 0.0005882 s: auto, 0.05 × 2/ω_max — the structure's limit governs (0.01219 s, building right; "
+            "no contact candidates), shortened to fit the output interval") in r.stdout.splitlines()  # fmt: skip
+    assert "  integrator: cdm — the central difference method, 57,800 steps of Δt" in r.stdout.splitlines()
 
 
 def test_run_subprocess_writes_file_and_json(tmp_path):
@@ -64,9 +100,33 @@ def test_run_subprocess_writes_file_and_json(tmp_path):
         assert f.attrs["status"] == "complete"
 
 
+def test_progress_on_a_pipe_when_asked(tmp_path):
+    """--progress with stderr a pipe (a log file, a batch job): plain lines on stderr, one per
+    tenth done, ending at 100 %, and no terminal codes; without it a pipe gets none."""
+    r = pound_cmd("run", EXAMPLE, "-o", tmp_path / "a.h5", "--progress")
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in r.stderr.splitlines() if ln.startswith("integrating:")]
+    percents = [int(ln.split()[1]) for ln in lines]
+    assert percents == sorted(set(percents)) and len(percents) >= 5, r.stderr
+    assert percents[-1] == 100 and all(p % 10 == 0 for p in percents)
+    assert "\x1b" not in r.stderr
+    quiet = pound_cmd("run", EXAMPLE, "-o", tmp_path / "b.h5")
+    assert quiet.returncode == 0, quiet.stderr
+    assert "integrating" not in quiet.stderr
+
+
+def test_progress_in_process_when_asked(tmp_path):
+    r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(tmp_path / "a.h5"), "--progress"])
+    assert r.exit_code == 0, r.output
+    assert "integrating: 100 %" in r.stderr.splitlines()
+    assert "integrating" not in r.stdout
+
+
 def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
     """`pound run --json` and the printed summary give, per kind of yielding member, how many
-    yielded and the one of largest ductility, as the file's /buildings/<b>/yielding says."""
+    yielded, the one of largest ductility and the one of largest residual deflection, as the
+    file's /buildings/<b>/yielding says; peaks/ductility and peaks/residual_deflection are
+    the yielding datasets under a second name (HDF5 hard links, no copy)."""
     import numpy as np
     from pounding_cli.model import read_document
 
@@ -92,10 +152,23 @@ def test_run_summary_of_yielding_members_matches_the_hdf5(tmp_path):
             assert w["ductility"] == pytest.approx(ductility[worst], rel=1e-12)
             assert w["peak_deflection_m"] == pytest.approx(g["peak"][worst, 2], rel=1e-12)
             assert w["residual_deflection_m"] == pytest.approx(np.hypot(*g["residual_deflection"][worst]), rel=1e-12)
+            # the largest residual deflection: the resultant over both local axes, the largest member
+            residual = np.hypot(*g["residual_deflection"][()].T)
+            r = group["largest_residual"]
+            assert r["member"] == g["members"]["name"][int(np.argmax(residual))].decode()
+            assert r["storey"] == g["members"]["storey"][int(np.argmax(residual))]
+            assert r["residual_deflection_m"] == residual.max() > np.abs(g["residual_deflection"][()]).max()
+            # per-member ductility and residual deflection are also under peaks/: the same datasets
+            peaks = f[f"buildings/{name}/peaks"]
+            for key in ("ductility", "residual_deflection"):
+                assert peaks[key] == g[key], f"peaks/{key} is not a hard link to yielding/{key}"
     printed = runner.invoke(app, ["run", str(model), "-o", str(out), "--force"], env={"COLUMNS": "200"})
     group = summary["left"]["yielding"][0]
     line = (f"left: {group['yielded']} of {group['members']} columns yielded; largest ductility "
             f"{group['largest_ductility']['ductility']:.3g} ({group['largest_ductility']['member']}, storey")
+    assert line in printed.stdout, printed.stdout
+    r = group["largest_residual"]
+    line = (f"largest residual |δ| {1e3 * r['residual_deflection_m']:.3g} mm ({r['member']}, storey {r['storey']})")
     assert line in printed.stdout, printed.stdout
 
 

@@ -116,9 +116,9 @@ def test_frictionless_oblique_impact_without_spin_keeps_kinetic_energy():
 
 
 def test_spinning_corner_impact_energy_change_is_the_models_not_the_integrators():
-    """With rotation free, the paper's impact law — force k_N·A_c along n ⟂ P1P2 at the
-    overlap's centroid — is not the gradient of a potential: its moment is not the
-    derivative of the overlap area with respect to the rotation (docs/theory.md). In this
+    """With rotation free, the contact forces are not the gradient of a potential: the kernel
+    moves the outlines by the small-rotation map P + θ·ẑ × (P − G), not rigidly
+    (tests/test_contact_work.py shows the gain is that map's, docs/theory.md §10). In this
     30° corner impact the slabs leave with 2.2 % more kinetic energy. The change is the
     model's: it does not depend on Δt (to 1e-5 between Δt and Δt/4), and the energy balance,
     which counts the contact forces' work, closes."""
@@ -151,6 +151,25 @@ def test_corner_first_impact_turns_the_slab_the_right_way():
     assert_allclose(r.events[0, kernel.EV_Y], lead[1], atol=0.05)
 
 
+STICK_SLIP = (5.0, 10.0, 0.8, 0.6, 0.5)
+"""g₀ (m/s²), pull rate r (m/s³), μ_s, μ_k, the pull's start (s) of _stick_slip."""
+
+
+def _stick_slip():
+    """(response, structure): a 4 m slab pressed on a wall by the body force m·g₀ and pulled
+    along it by a force growing at m·r from t_pull (both through the ground acceleration)."""
+    g0, rate, mu_s, mu_k, t_pull = STICK_SLIP
+    slab = square(4.0, (0.0, 0.0))
+    wall = np.array([[2.0, -50], [3.0, -50], [3.0, 50], [2.0, 50]])
+    c_t = 2 * 0.7 * np.sqrt(1e9 * 16000)  # tangential dashpot: settles the stick oscillation
+    structure, contact = free_slabs([slab], obstacles=[wall], k_n=1e9, k_t=1e9, mu_s=mu_s, mu_k=mu_k,
+                                    zeta=restitution_damping_ratio(0.2), c_t=c_t)  # fmt: skip
+    dt_g = 1e-3
+    t = np.arange(0, 1.3, dt_g)
+    ground = np.column_stack([np.full_like(t, -g0), -rate * np.clip(t - t_pull, 0, None)])
+    return simulate(structure, ground, dt_g, 2e-5, 50, 65_000, contact=contact), structure
+
+
 def test_stick_then_slip_at_static_then_kinetic_friction():
     """A slab pressed on a wall by a steady body force m·g₀ (through the ground acceleration)
     is pulled along the wall by a force growing at m·r: it sticks (friction carries the
@@ -160,16 +179,8 @@ def test_stick_then_slip_at_static_then_kinetic_friction():
     Friction acts at the wall face, off the slab's centre, so its couple rocks the slab a
     little and moves the overlap's centroid: F_T follows the pull within 1 % while sticking,
     and F_N varies while sliding — the checks use the forces the run reports."""
-    g0, rate, mu_s, mu_k, t_pull = 5.0, 10.0, 0.8, 0.6, 0.5
-    slab = square(4.0, (0.0, 0.0))
-    wall = np.array([[2.0, -50], [3.0, -50], [3.0, 50], [2.0, 50]])
-    c_t = 2 * 0.7 * np.sqrt(1e9 * 16000)  # tangential dashpot: settles the stick oscillation
-    structure, contact = free_slabs([slab], obstacles=[wall], k_n=1e9, k_t=1e9, mu_s=mu_s, mu_k=mu_k,
-                                    zeta=restitution_damping_ratio(0.2), c_t=c_t)  # fmt: skip
-    dt_g = 1e-3
-    t = np.arange(0, 1.3, dt_g)
-    ground = np.column_stack([np.full_like(t, -g0), -rate * np.clip(t - t_pull, 0, None)])
-    r = simulate(structure, ground, dt_g, 2e-5, 50, 65_000, contact=contact)
+    g0, rate, mu_s, mu_k, t_pull = STICK_SLIP
+    r, structure = _stick_slip()
     fn, ft = r.contact[:, 0, kernel.NOW_FN], r.contact[:, 0, kernel.NOW_FT]
     m = structure.mass[0]
     settled = (r.time > 0.3) & (r.time < t_pull)
@@ -192,3 +203,75 @@ def test_stick_then_slip_at_static_then_kinetic_friction():
     e_contact = r.energy[:, 5]
     assert_allclose(e_contact[-1] - e_contact[i0], work, rtol=1e-2)
     assert np.abs(r.energy[:, 6]).max() < 1e-3 * e_contact[-1], "energy balance"
+
+
+def test_impact_log_keeps_the_contact_force_at_the_peak():
+    """The oblique corner impact with friction (it slides), output at every step: each logged
+    episode's F_T at the peak is the F_T of the contact histories at t_peak, bit for bit (the
+    same number, stored twice), within Coulomb's bound |F_T| ≤ μ_s·F_N; and its normal is the
+    one shapely gives for the displaced outlines at that step — perpendicular to the line
+    through the points where they cross — to 1e-9 (the clipping and shapely's intersection
+    agree to rounding of coordinates of order 10 m)."""
+    from pounding_cli.report.plan import contact_normal
+
+    mu_s, mu_k = 0.8, 0.6
+    structure, contact, velocity = _oblique(mu_s, mu_k)
+    r = run(structure, contact, velocity, duration=0.25, stride=1)
+    assert r.events.shape[0] >= 1
+    slabs = contact.body_poly[:2]
+    centres = structure.floor_centre
+    for event in r.events:
+        k = int(np.flatnonzero(r.time == event[kernel.EV_T_PEAK])[0])
+        f_n, f_t = r.contact[k, 0, kernel.NOW_FN], r.contact[k, 0, kernel.NOW_FT]
+        assert event[kernel.EV_PEAK_FN] == f_n and event[kernel.EV_FT_PEAK] == f_t
+        assert abs(f_t) <= mu_s * f_n
+        u = r.displacement[k].reshape(2, 3)
+        moved = [p + np.column_stack([u[i, 0] - u[i, 2] * (p[:, 1] - centres[i, 1]),
+                                      u[i, 1] + u[i, 2] * (p[:, 0] - centres[i, 0])])
+                 for i, p in enumerate(slabs)]  # fmt: skip
+        assert_allclose([event[kernel.EV_NX], event[kernel.EV_NY]], contact_normal(*moved), atol=1e-9)
+    peak = r.events[np.argmax(r.events[:, kernel.EV_PEAK_FN])]
+    assert r.events[0, kernel.EV_SLID] == 1.0 and abs(peak[kernel.EV_FT_PEAK]) > 0.05 * peak[kernel.EV_PEAK_FN], \
+        "friction carries a real share of the force at the peak"
+
+
+def test_tangential_state_resets_between_contact_episodes():
+    """A slab held against a wall by a steady body force, sliding along it: it bounces, flies
+    and lands again, so the one pair has several episodes. Each ends sliding, its friction
+    spring at μ_k·F_N of the last step (kN); each new episode must start from F_T = 0, so its
+    first step carries exactly the spring's increment k_T·Δu_T of that step (B, the wall, is
+    fixed: Δu_T = −(slab's slip at the action point) = −(Δu_y + Δθ·(c_x − G_x))), to rounding
+    (1e-9), not the last episode's force on top of it. Rotation held back (J × 10⁶) keeps
+    the action point on the wall face."""
+    r, episodes = _bouncing_along_a_wall()
+    assert len(episodes) >= 2 and r.events.shape[0] == len(episodes) + 1, "episodes of one pair"
+    assert (r.events[:, kernel.EV_SLID] == 1).all()
+    for leftover, fn_end, first, increment, fn_first in episodes:
+        assert_allclose(abs(leftover), 0.6 * fn_end, rtol=1e-9)  # sliding to the end
+        assert abs(leftover) > 1e3, "the last episode ends with a friction force of kN"
+        assert_allclose(first, increment, rtol=1e-9)
+        assert abs(first) < 0.8 * fn_first, "it sticks in its first step"
+
+
+def _bouncing_along_a_wall(k_t=1e8):
+    """(response, one row per episode after the first: F_T and F_N at the last step of the
+    episode before, F_T at its own first step, the spring's increment k_T·Δu_T of that step,
+    F_N then), N, for test_tangential_state_resets_between_contact_episodes."""
+    slab = square(4.0, (0.0, 0.0))
+    wall = np.array([[2.002, -50], [3.0, -50], [3.0, 50], [2.002, 50]])
+    structure, contact = free_slabs([slab], obstacles=[wall], k_n=1e9, k_t=k_t, mu_s=0.8, mu_k=0.6)
+    structure.mass[2] *= 1e6
+    t = np.arange(0, 0.2, 1e-3)
+    ground = np.column_stack([np.full_like(t, -20.0), np.zeros_like(t)])  # pushes the slab (+x) to the wall
+    r = simulate(structure, ground, 1e-3, 2e-5, 1, 8000, contact=contact, initial_velocity=np.array([0.5, 0.3, 0.0]))
+    fn, ft, cx = (r.contact[:, 0, k] for k in (kernel.NOW_FN, kernel.NOW_FT, kernel.NOW_X))
+    on = r.contact[:, 0, kernel.NOW_AREA] > 0
+    first = np.flatnonzero(on[1:] & ~on[:-1]) + 1
+    last = np.flatnonzero(~on[1:] & on[:-1])
+    u = r.displacement
+    rows = []
+    for end, start in zip(last, first[1:]):
+        g_x = structure.floor_centre[0, 0] + u[start, 0]
+        slip = (u[start, 1] - u[start - 1, 1]) + (u[start, 2] - u[start - 1, 2]) * (cx[start] - g_x)
+        rows.append((ft[end], fn[end], ft[start], k_t * slip, fn[start]))
+    return r, rows

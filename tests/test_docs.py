@@ -179,6 +179,39 @@ def test_every_model_field_is_in_the_reference():
             assert (info.description or "").strip(), f"{name}.{key} has no description"
 
 
+def test_bounds_render_the_binding_limit(generator):
+    """A number given both an exclusive and an inclusive bound (pydantic: a positive type
+    with ge=1) is documented by the one that binds; at a tie, the exclusive one."""
+    bounds = generator._bounds
+    assert bounds({"exclusiveMinimum": 0, "minimum": 1.0, "maximum": 1e12}, "mass") == "1 ≤ mass ≤ 1e+12"
+    assert bounds({"exclusiveMinimum": 2, "minimum": 1}, "x") == "> 2"
+    assert bounds({"exclusiveMinimum": 1, "minimum": 1}, "x") == "> 1"
+    assert bounds({"maximum": 5, "exclusiveMaximum": 3}, "x") == "< 3"
+    assert bounds({"minimum": 0, "exclusiveMaximum": 0.5}, "ν") == "0 ≤ ν < 0.5"
+
+
+@pytest.mark.parametrize(
+    "model, field, low, rendered",
+    [("Floor", "mass", 1.0, "1 ≤ mass ≤ 1e+12"), ("Floor", "mass_per_area", 0.01, "0.01 ≤ mass_per_area ≤ 1e+09"),
+     ("Floor", "rotational_inertia", 1e-3, "0.001 ≤ rotational_inertia ≤ 1e+18"),
+     ("Isolation", "mass", 1.0, "1 ≤ mass ≤ 1e+12")],
+)  # fmt: skip
+def test_documented_lower_bound_is_the_enforced_one(generator, model, field, low, rendered):
+    """The reference row states the bound the model enforces: `low` passes, just below fails."""
+    from pydantic import TypeAdapter, ValidationError
+
+    from pounding_cli.model import Floor
+    from pounding_cli.model.inelastic import Isolation
+
+    cls = {"Floor": Floor, "Isolation": Isolation}[model]
+    adapter = TypeAdapter(cls.model_fields[field].annotation)
+    assert adapter.validate_python(low) == low
+    with pytest.raises(ValidationError):
+        adapter.validate_python(low * (1 - 1e-9))
+    text = (DOCS / "reference" / "model-fields.md").read_text(encoding="utf-8")
+    assert f"| `{field}` | number | not set | {rendered} |" in text
+
+
 # --- (d), (e) TOML blocks of the user guide ---------------------------------------------------
 
 

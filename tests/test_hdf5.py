@@ -50,7 +50,8 @@ def test_layout_and_units(example_run):
         events = f["impacts/events"]
         assert events.shape == (0,)
         for field in ("body_a", "body_b", "level", "t_start", "t_end", "peak_normal_force", "normal_impulse",
-                      "peak_area", "peak_depth", "x", "y", "slid"):  # fmt: skip
+                      "peak_area", "peak_depth", "x", "y", "slid", "tangential_force_at_peak", "normal_x",
+                      "normal_y"):  # fmt: skip
             assert field in events.dtype.names
         assert f["energy"].shape == (nt, 7)
         assert f["energy"].attrs["columns"] == ", ".join(pound.results.ENERGY_NAMES)
@@ -143,3 +144,31 @@ def test_impacts_written_and_read_back(tmp_path):
     assert again.contact.events.tolist() == c.events.tolist()
     assert_array_equal(again.contact.normal_force, c.normal_force)
     assert again.contact.pairs.tolist() == c.pairs.tolist()
+
+
+def test_impact_log_of_an_older_file_reads_with_nan(tmp_path):
+    """A file written before the impact log kept F_T and n at the peak reads back with NaN in
+    those columns (the other columns unchanged); the report says null and the plan view
+    recomputes the normal and draws no F_T."""
+    from pounding_cli.report import open_run, summary
+    from pounding_cli.report.geometry import plan_geometry
+    from pounding_cli.report.plan import peak_instant
+
+    path = tmp_path / "old.h5"
+    result = pound.run_model(EXAMPLE.with_name("paper_pounding.toml"), output=path)
+    new = ("tangential_force_at_peak", "normal_x", "normal_y")
+    with h5py.File(path, "r+") as f:
+        events = f["impacts/events"][()]
+        old = events[[n for n in events.dtype.names if n not in new]]
+        units = f["impacts/events"].attrs["units"]
+        del f["impacts/events"]
+        f.create_dataset("impacts/events", data=old).attrs["units"] = units
+    again = pound.read_hdf5(path).contact.events
+    assert np.isnan(again[list(new)].tolist()).all()
+    kept = [n for n in again.dtype.names if n not in new]
+    assert again[kept].tolist() == result.contact.events[kept].tolist()
+    assert summary(path)["impacts"]["peak"]["tangential_force_at_peak"] is None
+    run = open_run(path)
+    instant = peak_instant(run, plan_geometry(run))
+    assert instant.contacts[0].f_tangential is None and "F_T not logged" in instant.description
+    np.testing.assert_allclose(instant.contacts[0].normal, [1.0, 0.0], atol=0.02)

@@ -65,3 +65,29 @@ def test_slab_accepts_collinear_vertex_and_closing_repeat():
 def test_slab_rejections(vertices, words):
     with pytest.raises(ValueError, match=words):
         convex_polygon(vertices)
+
+
+@pytest.mark.parametrize(
+    "slab, eccentricity, accepted",
+    [
+        ([(0, 0), (8, 0), (8, 8), (0, 8)], (4.0, 0.0), True),  # on the edge x = 8: a limit case, allowed
+        ([(0, 0), (8, 0), (8, 8), (0, 8)], (4.01, 0.0), False),  # 1 cm beyond it
+        ([(0, 0), (12, 0), (0, 6)], (2.5, 1.5), False),  # centroid (4, 2) + e = (6.5, 3.5): in the bounding box, not the triangle
+        ([(0, 0), (12, 0), (0, 6)], (1.5, 0.5), True),  # (5.5, 2.5): inside
+    ],
+)
+def test_mass_centre_must_lie_on_the_slab(slab, eccentricity, accepted):
+    """The mass of a floor lies on its convex slab, so its mass centre (slab centroid +
+    eccentricity) must lie within the outline; the boundary itself is allowed."""
+    from pydantic import ValidationError
+
+    from pounding_cli.model import Floor
+
+    grid = {"x": [0.0], "y": [0.0], "section": [0.3, 0.3], "material": "c"}
+    floor = {"height": 3.0, "slab": slab, "mass": 1e4, "eccentricity": eccentricity, "column_grid": grid}
+    if accepted:
+        assert Floor.model_validate(floor).eccentricity == eccentricity
+    else:
+        with pytest.raises(ValidationError, match="outside the slab") as err:
+            Floor.model_validate(floor)
+        assert err.value.errors()[0]["loc"] == ("eccentricity",)

@@ -112,15 +112,34 @@ def _reference(loaded, k_contact, h=1e-5):
     return t, out, np.array(impacts), np.array(peaks)
 
 
+_REFERENCES: dict = {}
+
+
+def _cached_reference(loaded, k_contact):
+    """_reference, computed once per contact stiffness for the integrators compared to it."""
+    if k_contact not in _REFERENCES:
+        _REFERENCES[k_contact] = _reference(loaded, k_contact)
+    return _REFERENCES[k_contact]
+
+
 @pytest.mark.slow
-def test_face_to_face_impacts_match_an_independent_solution():
+@pytest.mark.parametrize("integrator", ["hybrid", "cdm"])
+def test_face_to_face_impacts_match_an_independent_solution(integrator):
     """Impact times within two steps, peak impact forces and peak displacements within
-    0.5 % (the CDM's error here is ~1e-4: 70 steps per impact), the same impact count. The
-    reference samples every 10 µs (its peak-force sampling error is < 1e-4)."""
-    loaded = load_doc(_face_to_face_doc())
+    0.5 % (the issue's tolerance; the CDM's error in the force is ~2e-4: 70 steps per
+    impact), the same impact count. The reference samples every 10 µs (its peak-force
+    sampling error is < 1e-4). Peak displacements, closer:
+    - the CDM (every step at Δt = 18 µs) within 1e-4 (measured 3e-6);
+    - the hybrid (the default) samples peaks only at the ends of its exact substeps h while no
+      contact is possible (h = 1.67 ms here, ω_max·h ≤ 0.2, docs/theory.md §6): the peaks
+      fall between samples, 5.7e-4 and 1.2e-3 low here (the reference sampled every h misses
+      them by 6.0e-4 and 1.2e-3), never above the true peak (1e-5 for the CDM stretches)."""
+    doc = _face_to_face_doc()
+    doc["analysis"]["integrator"] = integrator
+    loaded = load_doc(doc)
     result = pound.run_model(loaded)
     k_contact = result.contact.pairs["k_normal"][0] * 8.0
-    t, y, impacts, peak_force = _reference(loaded, k_contact)
+    t, y, impacts, peak_force = _cached_reference(loaded, k_contact)
     events = result.contact.events
     assert len(impacts) >= 3, "the scene must pound"
     assert len(events) == len(impacts)
@@ -129,7 +148,12 @@ def test_face_to_face_impacts_match_an_independent_solution():
     assert_allclose(events["peak_normal_force"], peak_force, rtol=5e-3)
     for name, column in (("left", 0), ("right", 1)):
         peak = result.buildings[name].peak_displacement[0, 0]
-        assert_allclose(peak, np.abs(y[:, column]).max(), rtol=5e-3, err_msg=name)
+        exact = np.abs(y[:, column]).max()
+        assert_allclose(peak, exact, rtol=5e-3, err_msg=name)
+        if integrator == "cdm":
+            assert_allclose(peak, exact, rtol=1e-4, err_msg=name)
+        else:
+            assert peak <= exact * (1 + 1e-5), name
     # a central impact: no sideways motion, no torsion, no friction work
     for b in result.buildings.values():
         assert np.abs(b.displacement[:, :, 1:]).max() < 1e-12

@@ -3,6 +3,10 @@ labels and series (checked on the matplotlib Figure objects), and the files are 
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -19,7 +23,7 @@ from pounding_cli.report.plan import contact_normal, peak_instant, plan_figure
 from pounding_cli.report.plots import write_plots
 from pounding_cli.report.profiles import profile_figure
 
-from conftest import EXAMPLE, INPUTS
+from conftest import EXAMPLE, INPUTS, ROOT
 
 runner = CliRunner()
 
@@ -136,11 +140,18 @@ def test_plan_view_at_the_peak_impact(runs):
     assert any(p.get_edgecolor()[:3] == (0.8392156862745098, 0.15294117647058825, 0.1568627450980392)
                for p in contact.patches)  # fmt: skip
     arrows = [a for a in contact.texts if a.arrow_patch is not None]
-    assert len(arrows) == 1  # F_N only: the log keeps no tangential force
-    start, tip = np.array(arrows[0].xyann), np.array(arrows[0].xy)
-    direction = (tip - start) / np.hypot(*(tip - start))
-    np.testing.assert_allclose(direction, [1.0, 0.0], atol=0.02)  # from the left building into the right
-    assert any(lab.startswith("F_N = 16.5 MN") for lab in _labels(contact))
+    assert len(arrows) == 2  # F_N and F_T, both from the impact log (the sample misses the impact)
+    (start, tip_n), (_, tip_t) = [(np.array(a.xyann), np.array(a.xy)) for a in arrows]
+    # drawn along the logged normal n (from the left building into the right) and t = ẑ × n,
+    # lengths in the ratio of the logged forces (to the rounding of the drawing: 1e-9)
+    n = np.array([event["normal_x"], event["normal_y"]])
+    np.testing.assert_allclose(n, [1.0, 0.0], atol=0.02)
+    np.testing.assert_allclose((tip_n - start) / np.hypot(*(tip_n - start)), n, atol=1e-9)
+    f_n, f_t = event["peak_normal_force"], event["tangential_force_at_peak"]
+    np.testing.assert_allclose(tip_t - start, (tip_n - start) @ n * (f_t / f_n) * np.array([-n[1], n[0]]), atol=1e-9)
+    labels = _labels(contact)
+    assert f"F_N = {f_n / 1e6:.3g} MN" in labels and f"F_T = {f_t / 1e6:.3g} MN" in labels
+    assert "F_N = 16.5 MN" in labels and abs(f_t) > 0.1 * f_n, "friction matters in this impact"
     star = [ln for ln in contact.get_lines() if ln.get_label() == "action point"][0]
     assert abs(star.get_xdata()[0] - 8.05) < 0.6 and abs(star.get_ydata()[0] - 4.05) < 0.1
 
@@ -222,3 +233,41 @@ def test_cli_plot_errors(runs, tmp_path):
         assert words in r.stderr
     r = runner.invoke(app, ["report", path, "--plots", str(tmp_path / "no" / "such" / "folder")])
     assert r.exit_code == 2 and "does not exist" in r.stderr
+
+
+def _images_script():
+    """docs/make_report_images.py as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_report_images", ROOT / "docs" / "make_report_images.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_image_check_names_what_changed_in_a_figure(runs):
+    """The content `make_report_images.py --check` compares: a relabelled axis and an added
+    series are reported, naming the image, the axes and the field; an image no longer drawn too."""
+    script = _images_script()
+    fig = impact_figure(runs["pounding"])
+    before = script.signature(fig)
+    json.dumps(before)  # stored as JSON
+    assert [ax["ylabel"] for ax in before["axes"]][:2] == [fig.axes[0].get_ylabel(), fig.axes[1].get_ylabel()]
+    lines = before["axes"][1]["lines"]
+    fig.axes[0].set_ylabel("force")
+    fig.axes[1].plot([0.0, 1.0], [0.0, 1.0])
+    assert script.differences({"report-impacts.png": before}, {"report-impacts.png": script.signature(fig)}) == [
+        f"report-impacts.png: axes[0].ylabel: {before['axes'][0]['ylabel']!r} in the docs, 'force' now",
+        f"report-impacts.png: axes[1].lines: {lines} in the docs, {lines + 1} now",
+    ]
+    assert script.differences({"report-impacts.png": before}, {}) == ["report-impacts.png: no longer drawn"]
+
+
+@pytest.mark.slow
+def test_docs_images_are_up_to_date():
+    """`python docs/make_report_images.py --check`: every image of docs/report.md shows what
+    the code draws now (about a minute: it runs the examples and the sweep)."""
+    r = subprocess.run([sys.executable, "docs/make_report_images.py", "--check"], cwd=ROOT, capture_output=True,
+                       text=True, timeout=1200)  # fmt: skip
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "images: up to date" in r.stdout

@@ -1,9 +1,16 @@
 """`pound report SWEEP_DIR/`: the summary table, its JSON document and schema, plots of summary
-columns against a swept parameter (also polar), grouped bars of named cases, failed cases."""
+columns against a swept parameter (also polar), grouped bars of named cases, failed cases,
+folders of killed sweeps, table-valued parameters."""
 
 from __future__ import annotations
 
+import csv
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import h5py
 import jsonschema
@@ -119,6 +126,43 @@ def test_polar_figure(folder):
     np.testing.assert_allclose(fig.axes[0].get_lines()[0].get_xdata(), np.radians([0, 45, 90, 135]))
 
 
+def _overlaps(fig):
+    """Pairs of texts of a drawn polar figure that overlap: per panel its title, angle labels
+    and radial labels, and the figure's title."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()
+
+    def boxes(texts):
+        return [(t.get_text(), t.get_window_extent(renderer)) for t in texts if t.get_visible() and t.get_text()]
+
+    found = []
+    suptitle = boxes([fig._suptitle])
+    for ax in fig.axes:
+        title, angles, radii = boxes([ax.title]), boxes(ax.get_xticklabels()), boxes(ax.get_yticklabels())
+        assert title and len(angles) == 8 and len(radii) >= 2
+        for group, other in ((title, angles + radii + suptitle), (radii, angles)):
+            found += [(a, b) for a, box in group for b, box2 in other if box.overlaps(box2)]
+        found += [(a, b) for i, (a, box) in enumerate(radii) for b, box2 in radii[i + 1:] if box.overlaps(box2)]
+    return found
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-4], ids=["mm", "long radial labels"])
+def test_polar_labels_do_not_overlap(folder, scale):
+    """No panel title, angle label, radial label or figure title runs into another, with the
+    sweep's values and with them scaled to give long radial labels (0.0012 mm)."""
+    from pounding_cli.report.sweep_data import Sweep
+
+    sweep = open_sweep(folder)
+    results = set(sweep.names("result"))
+    rows = [{k: v * scale if k in results and isinstance(v, float) else v for k, v in r.items()} for r in sweep.rows]
+    scaled = Sweep(sweep.folder, sweep.attrs, sweep.columns, rows)
+    for fig in (parameter_figure(scaled, "excitation.angle", column="left:C9", polar=True),
+                parameter_figure(scaled, "excitation.angle", polar=True)):  # fmt: skip
+        assert _overlaps(fig) == []
+
+
 def test_bars_of_named_cases(folder):
     sweep = open_sweep(folder)
     rows = match_cases(sweep, ["cases/*"])
@@ -164,27 +208,162 @@ def test_cli_errors(folder, tmp_path, args, words):
 
 
 def test_failed_cases_are_said_first(folder, tmp_path):
-    """A summary whose case failed (the report reads only the summary: rewrite one status)."""
+    """A case whose file says it failed (the summary.h5 of the folder still says complete:
+    the report reads the case files, as read_summary does)."""
     import shutil
 
     copy = tmp_path / "copy"
     shutil.copytree(folder, copy)
-    with h5py.File(copy / "summary.h5", "r+") as f:
-        table = f["cases"][()]
-        table["status"][2] = "failed: unstable at t = 3.2 s"
-        f["cases"][...] = table
+    row = read_summary(copy)[2]
+    with h5py.File(copy / row["file"], "r+") as f:
+        f.attrs["status"] = "failed: unstable at t = 3.2 s"
     r = runner.invoke(app, ["report", str(copy)], env=WIDE)
     assert r.exit_code == 0
     first = r.stdout.strip().splitlines()[0]
-    assert first.startswith("INCOMPLETE SWEEP: 1 of 11 cases FAILED (angle/") and "unstable at t = 3.2 s" in first
+    assert first.startswith("INCOMPLETE SWEEP: 11 cases: 10 complete, 1 failed, 0 pending (not run yet). FAILED: "
+                            f"angle/{row['case']}: unstable at t = 3.2 s")  # fmt: skip
     assert "INCOMPLETE SWEEP" in r.stderr
     doc = sweep_summary(copy)
-    assert doc["complete"] is False and doc["counts"]["failed"] == 1
+    assert doc["complete"] is False and doc["counts"]["failed"] == 1 and doc["source"] == "case files"
+    assert doc["rows"][2]["status"] == "failed: unstable at t = 3.2 s"
+    with h5py.File(copy / "summary.h5") as f:
+        assert f.attrs["failed"] == 0, "the report wrote nothing"
 
 
 def test_a_folder_that_is_not_a_sweep(tmp_path):
     r = runner.invoke(app, ["report", str(tmp_path)])
-    assert r.exit_code == 2 and "not a sweep output folder (no summary.h5)" in r.stderr
+    assert r.exit_code == 2 and "not a sweep output folder (no sweep.json)" in r.stderr
     (tmp_path / "sweep.json").write_text("{}")
     r = runner.invoke(app, ["report", str(tmp_path)])
-    assert r.exit_code == 2 and "rebuild_summary" in r.stderr
+    assert r.exit_code == 2 and "no cases/ folder and no summary.h5: no case has run" in r.stderr
+    (tmp_path / "cases").mkdir()
+    r = runner.invoke(app, ["report", str(tmp_path)])
+    assert r.exit_code == 2 and "sweep.json is not the manifest of a pound sweep (no 'columns')" in r.stderr
+    assert "Traceback" not in r.output
+
+
+def test_a_summary_copied_alone_is_read_and_said_so(folder, tmp_path):
+    """summary.h5 without sweep.json and cases/ (sent to a colleague): its rows, with a note."""
+    (tmp_path / "summary.h5").write_bytes((folder / "summary.h5").read_bytes())
+    doc = sweep_summary(tmp_path)
+    assert doc["source"] == "summary.h5" and doc["rows"] == read_summary(folder)
+    r = runner.invoke(app, ["report", str(tmp_path)], env=WIDE)
+    assert r.exit_code == 0 and r.stdout.startswith("Rows read from summary.h5 as the sweep last wrote it")
+
+
+# --- a killed sweep -----------------------------------------------------------------------------
+
+KILLED = """
+set = { "analysis.integrator" = "cdm", "analysis.duration" = 12.0 }
+parameters = { "excitation.angle" = ANGLES }
+"""
+
+
+def _sweep_then_kill(sweep, out, new_files):
+    """Run `pound sweep` in a subprocess and kill it with SIGKILL (its process group: the
+    workers too) once `new_files` more case files than before exist."""
+    before = len(list((out / "cases").glob("*.h5")))
+    proc = subprocess.Popen([sys.executable, "-m", "pounding_cli", "sweep", str(sweep), "-o", str(out), "--jobs", "2"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
+    try:
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and proc.poll() is None:
+            if len(list((out / "cases").glob("*.h5"))) >= before + new_files:
+                break
+            time.sleep(0.02)
+        assert proc.poll() is None, f"the sweep ended before it could be killed: {proc.stderr.read().decode()}"
+        os.killpg(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=60)
+
+
+def _report_of_killed(out, sweep):
+    """The report's document and its first line, checked against what the folder holds: the
+    statuses `pound sweep --dry-run` gives, and the rows of read_summary; nothing written."""
+    files = {p: p.stat().st_mtime_ns for p in out.rglob("*")}
+    doc = _json(out)
+    listed = run_sweep(sweep, out, jobs=1, dry_run=True)
+    assert [r["status"] for r in doc["rows"]] == [r["status"] for r in listed.rows]
+    assert doc["rows"] == read_summary(out) and doc["source"] == "case files"
+    complete = sum(r["status"] == "complete" for r in listed.rows)
+    assert complete == len(list((out / "cases").glob("*.h5")))
+    n = doc["counts"]
+    assert n == {"cases": len(listed.rows), "complete": complete, "failed": 0, "pending": len(listed.rows) - complete}
+    r = runner.invoke(app, ["report", str(out)], env=WIDE)
+    assert r.exit_code == 0, r.output
+    first = r.stdout.strip().splitlines()[0]
+    assert first.startswith(f"INCOMPLETE SWEEP: {n['cases']} cases: {complete} complete, 0 failed, "
+                            f"{n['pending']} pending (not run yet)")  # fmt: skip
+    assert f"{n['cases']}: {complete} complete, 0 failed, {n['pending']} pending" in r.stdout
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*")} == files, "the report wrote nothing"
+    return doc
+
+
+def test_report_of_a_killed_sweep_reads_the_case_files(tmp_path):
+    """kill -9 of a real sweep into a fresh folder (no summary.h5 yet), then of the same sweep
+    grown from 4 to 8 angles (summary.h5 of the 4): the report lists every case of sweep.json,
+    each complete or pending as `--dry-run` sees it, and says so at the top."""
+    sweep = tmp_path / "killed.sweep.toml"
+    out = tmp_path / "out"
+
+    def write(angles):
+        sweep.write_text(f'base = "{(INPUTS / "paper_pounding.toml").as_posix()}"\n'
+                         + KILLED.replace("ANGLES", json.dumps(angles)), encoding="utf-8")  # fmt: skip
+
+    write([0, 30, 60, 90])
+    _sweep_then_kill(sweep, out, 1)
+    assert not (out / "summary.h5").exists()
+    doc = _report_of_killed(out, sweep)
+    assert doc["counts"]["cases"] == 4 and doc["counts"]["pending"] >= 1
+
+    assert run_sweep(sweep, out, jobs=2).ok  # completes the 4 and writes their summary
+    write([0, 30, 60, 90, 15, 45, 75, 105])
+    _sweep_then_kill(sweep, out, 1)
+    with h5py.File(out / "summary.h5") as f:
+        assert f["cases"].shape == (4,) and f.attrs["complete"] == 4, "the killed sweep left the old summary"
+    doc = _report_of_killed(out, sweep)
+    assert doc["counts"]["cases"] == 8 and 5 <= doc["counts"]["complete"] < 8
+    assert [r["excitation.angle"] for r in doc["rows"]] == [0, 30, 60, 90, 15, 45, 75, 105]
+
+
+# --- table-valued parameters -------------------------------------------------------------------
+
+RECORDS = """
+set = { "analysis.duration" = 1.0 }
+
+[[parameters."excitation.record"]]
+name = "Ridgecrest as shipped"
+L = { file = "records/ridgecrest2019_ccc.mseed", trace = "HNE", units = "m/s2" }
+T = { file = "records/ridgecrest2019_ccc.mseed", trace = "HNN", units = "m/s2" }
+
+[[parameters."excitation.record"]]
+L = { file = "records/ridgecrest2019_ccc.mseed", trace = "HNN", units = "m/s2" }
+T = { file = "records/ridgecrest2019_ccc.mseed", trace = "HNE", units = "m/s2" }
+"""
+
+
+def test_inline_records_are_short_in_tables_and_whole_in_csv_and_json(tmp_path):
+    """A swept inline record: its name (or ~40 characters of its JSON) in the rich table and
+    the HTML report; the whole table in summary.csv and --json."""
+    from pounding_cli.report.sweep_data import SHORT
+
+    sweep = tmp_path / "records.sweep.toml"
+    sweep.write_text(f'base = "{(INPUTS / "paper_pounding.toml").as_posix()}"\n' + RECORDS, encoding="utf-8")
+    out = tmp_path / "out"
+    assert run_sweep(sweep, out, jobs=2).ok
+    rows = _json(out)["rows"]
+    records = [r["excitation.record"] for r in rows]
+    assert records[0]["name"] == "Ridgecrest as shipped" and records[1]["L"]["trace"] == "HNN"
+    whole = [json.dumps(v, ensure_ascii=False) for v in records]
+    assert all(len(w) > 3 * SHORT for w in whole)
+    with open(out / "summary.csv", encoding="utf-8", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert [json.loads(line["excitation.record"]) for line in table] == records
+    r = runner.invoke(app, ["report", str(out), "--html", str(tmp_path / "r.html")], env={"COLUMNS": "400"})
+    assert r.exit_code == 0, r.output
+    html_text = (tmp_path / "r.html").read_text(encoding="utf-8")
+    unnamed = '{"L": {"file": "records/ridgecrest2019_…'  # the JSON without the unset fields, cut
+    assert len(unnamed) == SHORT
+    for text in (r.stdout, html_text.replace("&quot;", '"')):
+        assert "Ridgecrest as shipped" in text and unnamed in text
+        assert not any(w in text for w in whole) and '"trace": "HNE"' not in text

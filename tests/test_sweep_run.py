@@ -1,11 +1,14 @@
 """Running sweeps: the shipped sweep, bitwise equality with `pound run` and across --jobs and
-Dask, resuming (after a kill -9 of a real sweep too), failures that stop nothing, the
-summary's three forms, the worker pool, and the CLI's exit codes."""
+Dask (threads, worker processes, a scheduler file), resuming (after a kill -9 of a real sweep
+too, its temporaries removed), failures that stop nothing, the summary's three forms and
+their values against the case files, the worker pool, the progress bar, and the CLI's exit
+codes."""
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -156,6 +159,32 @@ def test_summary_forms_agree(two_jobs):
     assert read_summary(folder) == outcome.rows == rebuild_summary(folder)
 
 
+def test_summary_values_are_the_case_files_datasets(two_jobs):
+    """Each row's impacts, peak impact force, energy balance error and peak interstorey
+    deflections, against the case file's datasets read directly: the number of rows of
+    /impacts/events (none beyond the log's limit here), their largest peak_normal_force,
+    max |balance_error| / max |input| of /energy, and /buildings/<B>/peaks — exactly (the same
+    doubles, reduced by max)."""
+    outcome, _ = two_jobs
+    assert any(r["impacts"] for r in outcome.rows), "some case has impacts"
+    for row in outcome.rows:
+        with h5py.File(outcome.folder / row["file"]) as f:
+            events = f["impacts/events"][()]
+            assert row["impacts"] == events.shape[0]
+            assert row["peak_impact_force_N"] == (events["peak_normal_force"].max() if events.size else 0.0)
+            columns = f["energy"].attrs["columns"].split(", ")
+            energy = f["energy"][()]
+            ratio = np.abs(energy[:, columns.index("balance_error")]).max() / np.abs(energy[:, columns.index("input")]).max()
+            assert row["energy_balance_error"] == ratio
+            for building in ("left", "right"):
+                isd = f[f"buildings/{building}/peaks/interstorey_deflection"][()]
+                for k, suffix in enumerate(("x_m", "y_m", "theta_rad")):
+                    assert row[f"peak_isd_{suffix}[{building}]"] == np.nanmax(isd[:, :, k])
+            names = [n.decode() for n in f["buildings/left/columns"]["name"]]
+            c9 = f["buildings/left/peaks/interstorey_deflection"][names.index("C9")]
+            assert [row[f"peak_isd_x_m[left/C9/{s}]"] for s in range(1, 5)] == c9[:, 0].tolist()
+
+
 def test_dry_run_lists_and_writes_nothing(two_jobs, tmp_path):
     fresh = run_sweep(SMALL, tmp_path / "never", jobs=1, dry_run=True)
     assert not (tmp_path / "never").exists()
@@ -215,6 +244,29 @@ def test_kill_9_mid_sweep_loses_no_completed_case(tmp_path):
     assert sorted(p.name for p in (out / "cases").iterdir()) == sorted(f"{c.hash}.h5" for c in plan.cases)
 
 
+def test_temporaries_of_a_killed_sweep_are_removed_on_rerun(tmp_path):
+    """Temporary case files (``.<hash>.h5.<pid>.tmp``, ``.<hash>.failed.json.<pid>.tmp``) of a
+    process killed with SIGKILL are deleted by the next sweep into the folder, which says so;
+    one of a process still running (another sweep's worker writing) is left alone."""
+    sweep = write_sweep(tmp_path, 'set = { "analysis.duration" = 1.0 }\nparameters = { "excitation.angle" = [0] }\n')
+    out = tmp_path / "out"
+    assert run_sweep(sweep, out, jobs=1).ok
+    killed = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    killed.kill()
+    killed.wait(timeout=30)
+    h = plan_sweep(sweep).cases[0].hash
+    stale = [out / "cases" / f".{h}.h5.{killed.pid}.tmp", out / "cases" / f".{h}.failed.json.{killed.pid}.tmp"]
+    alive = out / "cases" / f".{h}.h5.{os.getpid()}.tmp"
+    for path in (*stale, alive):
+        path.write_bytes(b"half a file")
+    said = []
+    again = run_sweep(sweep, out, jobs=1, log=said.append)
+    assert again.ok and again.ran == 0
+    assert not any(p.exists() for p in stale) and alive.exists()
+    assert "removed 2 temporary files left by an interrupted sweep" in said
+    assert sorted(p.name for p in (out / "cases").iterdir()) == sorted([f"{h}.h5", alive.name])
+
+
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
 def test_interrupted_sweep_writes_its_summary_and_exits_1(sig, tmp_path):
     """Ctrl-C or SIGTERM to the sweep process: the workers stop, the summary is rebuilt with the
@@ -257,6 +309,30 @@ def test_a_failing_case_stops_nothing_and_exits_1(tmp_path):
     assert (out / failed["file"]).exists() and failed["impacts"] is not None, "partial results are kept"
     again = run_sweep(sweep, out, jobs=1)
     assert again.reused == 1 and again.ran == 1 and not again.ok, "a failed case is run again"
+
+
+def test_progress_bar_counts_done_and_failed_with_an_eta(tmp_path, monkeypatch):
+    """`pound sweep --progress` on a terminal (a rich console forced to be one): the bar of
+    the checks and the bar of the runs, each with done/total, failed and the time left; the
+    run bar ends at 2/2 with the one failing case counted."""
+    import io
+
+    from rich.console import Console
+
+    import pounding_cli.cli as cli
+
+    screen = io.StringIO()
+    monkeypatch.setattr(cli, "err", Console(file=screen, force_terminal=True, width=160, highlight=False,
+                                            soft_wrap=True, color_system=None))  # fmt: skip
+    sweep = write_sweep(tmp_path, 'set = { "analysis.integrator" = "cdm", "analysis.duration" = 20.0, '
+                        '"buildings.right.origin[0]" = 8.02 }\nparameters = { "analysis.dt" = [0.002, 0.004] }\n')  # fmt: skip
+    result = runner.invoke(app, ["sweep", str(sweep), "-o", str(tmp_path / "out"), "--jobs", "2", "--progress"])
+    assert result.exit_code == 1, result.output
+    text = screen.getvalue()
+    final = text.rsplit("\r", 1)[-1]  # the bars as last drawn
+    assert re.search(r"checking cases .*2/2 0 failed .*ETA", final), final
+    assert re.search(r"running cases +\S+ 2/2 1 failed \d+:\d\d:\d\d ETA \d+:\d\d:\d\d", final), final
+    assert "2 cases: 1 complete (0 already were), 1 failed" in text
 
 
 def test_a_dead_worker_fails_only_its_task():
@@ -307,6 +383,85 @@ def test_dask_cluster_gives_the_same_results(two_jobs, tmp_path):
         assert_bitwise_equal(outcome.folder / row["file"], tmp_path / "dask" / row["file"])
     assert result.exit_code == 0, result.output
     assert len(result.stdout.splitlines()) == 8 and "Dask cluster" in result.stderr
+
+
+def test_dask_worker_processes_give_the_same_results(two_jobs, tmp_path):
+    """A LocalCluster of two worker processes (each its own interpreter under a nanny, as on
+    a real cluster, unlike processes=False's threads): the same rows and case files, bit for
+    bit."""
+    distributed = pytest.importorskip("distributed")
+    outcome, _ = two_jobs
+    try:
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                           dashboard_address=None, silence_logs=50)  # fmt: skip
+    except (OSError, TimeoutError, RuntimeError) as exc:
+        pytest.skip(f"cannot start a local Dask cluster of processes here: {exc}")
+    with cluster, distributed.Client(cluster) as client:
+        client.wait_for_workers(2, timeout=120)
+        assert len(set(client.run(os.getpid).values()) - {os.getpid()}) == 2, "two processes, not this one"
+        remote = run_sweep(SMALL, tmp_path / "dask", client=client)
+    assert remote.ok and without_times(remote.rows) == without_times(outcome.rows)
+    for row in outcome.rows:
+        assert_bitwise_equal(outcome.folder / row["file"], tmp_path / "dask" / row["file"])
+
+
+@pytest.fixture
+def scheduler_file(tmp_path):
+    """A Dask scheduler and two one-thread workers started as `dask scheduler` and `dask worker`
+    would be on a cluster, meeting through a scheduler file; stopped (process groups) after.
+    Every wait is bounded; the test is skipped if they cannot start (no free port, say)."""
+    pytest.importorskip("distributed")
+    path = tmp_path / "scheduler.json"
+    started = []
+
+    def start(module, *args):
+        proc = subprocess.Popen([sys.executable, "-m", f"distributed.cli.{module}", *args], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.PIPE, text=True, start_new_session=True)  # fmt: skip
+        started.append(proc)
+        return proc
+
+    try:
+        scheduler = start("dask_scheduler", "--scheduler-file", str(path), "--host", "127.0.0.1", "--port", "0",
+                          "--no-dashboard", "--idle-timeout", "300s")  # fmt: skip
+        deadline = time.monotonic() + 60
+        while not path.exists() and scheduler.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if not path.exists():
+            pytest.skip(f"the Dask scheduler did not start: {scheduler.stderr.read() if scheduler.poll() is not None else 'timed out'}")
+        start("dask_worker", "--scheduler-file", str(path), "--nworkers", "2", "--nthreads", "1", "--no-dashboard",
+              "--death-timeout", "60")  # fmt: skip
+        import distributed
+
+        with distributed.Client(scheduler_file=str(path), timeout=30) as client:
+            try:
+                client.wait_for_workers(2, timeout=120)
+            except TimeoutError:
+                pytest.skip("the Dask workers did not join the scheduler within 120 s")
+        yield path
+    finally:
+        for proc in reversed(started):
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGTERM)
+            try:
+                proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait(timeout=30)
+
+
+def test_scheduler_file_sweep_gives_the_same_results(two_jobs, scheduler_file, tmp_path):
+    """`pound sweep --scheduler-file` against a scheduler and workers started from the command
+    line: exit 0, the same rows (--json and the summary) and case files as the local run."""
+    outcome, _ = two_jobs
+    out = tmp_path / "cluster"
+    result = runner.invoke(app, ["sweep", str(SMALL), "-o", str(out), "--scheduler-file", str(scheduler_file), "--json"])
+    assert result.exit_code == 0, result.output
+    assert "on the Dask cluster at tcp://127.0.0.1:" in result.stderr and "(2 worker threads)" in result.stderr
+    lines = [json.loads(line) for line in result.stdout.splitlines()]  # in the order the cases finished
+    assert sorted(map(json.dumps, without_times(lines))) == sorted(map(json.dumps, without_times(outcome.rows)))
+    assert without_times(read_summary(out)) == without_times(outcome.rows)
+    for row in outcome.rows:
+        assert_bitwise_equal(outcome.folder / row["file"], out / row["file"])
 
 
 def test_dask_workers_get_absolute_paths(tmp_path, monkeypatch):

@@ -1,5 +1,6 @@
-"""Sweep summary columns of yielding members: ``max_ductility[B]`` (buildings with inelastic
-columns) and ``peak_isolator_displacement_m[B]`` (base-isolated buildings), only for the
+"""Sweep summary columns of yielding members: ``max_ductility[B]`` and
+``max_residual_deflection_m[B]`` (buildings with inelastic columns) and
+``peak_isolator_displacement_m[B]`` (base-isolated buildings), only for the
 buildings that have them, equal to the case files' datasets, in the row schema, and usable as
 ``pound report DIR/ --y`` columns.
 
@@ -69,8 +70,10 @@ def test_columns_only_for_buildings_that_have_them(folder):
     assert not [n for n in names if n.endswith("[neighbour]") and not n.startswith("peak_isd_")]
     # after the building's largest deflections, before the per-storey columns
     i = names.index("peak_isd_theta_rad[isolated]")
-    assert names[i + 1:i + 3] == ["max_ductility[isolated]", "peak_isolator_displacement_m[isolated]"]
+    assert names[i + 1:i + 4] == ["max_ductility[isolated]", "max_residual_deflection_m[isolated]",
+                                  "peak_isolator_displacement_m[isolated]"]  # fmt: skip
     assert sweep.column("peak_isolator_displacement_m[isolated]")["units"] == "m"
+    assert sweep.column("max_residual_deflection_m[isolated]")["units"] == "m"
     # the isolation storey counts: storey 1 below the base slab, then the four of the model
     assert "peak_isd_x_m[isolated/C5/5]" in names and "peak_isd_x_m[isolated/C5/6]" not in names
 
@@ -88,6 +91,9 @@ def test_values_equal_the_case_files(folder):
             assert row["max_ductility[isolated]"] == g["ductility"][()][kinds == "column"].max()
             assert row["peak_isolator_displacement_m[isolated]"] == g["peak"][()][kinds == "isolator", 2].max()
             assert row["max_ductility[isolated]"] > 1  # the columns did yield
+            # the resultant over both local axes of the most bent column, not the largest single axis
+            residual = g["residual_deflection"][()][kinds == "column"]
+            assert row["max_residual_deflection_m[isolated]"] == np.hypot(residual[:, 0], residual[:, 1]).max() > 0
             isd = f["buildings/isolated/peaks/interstorey_deflection"][()]
             assert row["peak_isd_x_m[isolated/C5/5]"] == isd[4, 4, 0]
     with h5py.File(folder / "summary.h5") as f:
@@ -123,12 +129,14 @@ def test_row_schema_knows_the_yielding_columns():
     schema = sweep_summary_schema()
     patterns = schema["patternProperties"]
     columns = yielding_columns("tower-2", True, True)
-    assert [c.name for c in columns] == ["max_ductility[tower-2]", "peak_isolator_displacement_m[tower-2]"]
+    assert [c.name for c in columns] == ["max_ductility[tower-2]", "max_residual_deflection_m[tower-2]",
+                                         "peak_isolator_displacement_m[tower-2]"]  # fmt: skip
     assert yielding_columns("b", False, True)[0].name == "peak_isolator_displacement_m[b]"
     assert yielding_columns("b", False, False) == []
     for column in columns + building_columns("b") + storey_columns("b", "C1", 2):
         assert sum(bool(re.match(p, column.name)) for p in patterns) == 1, column.name
-    row = {"max_ductility[b]": 2.5, "peak_isolator_displacement_m[b]": None}
+    row = {"max_ductility[b]": 2.5, "max_residual_deflection_m[b]": 0.01, "peak_isolator_displacement_m[b]": None}
     jsonschema.validate(row, {**schema, "required": []})
-    with pytest.raises(jsonschema.ValidationError):
-        jsonschema.validate({"max_ductility[b]": -1.0}, {**schema, "required": []})
+    for wrong in ({"max_ductility[b]": -1.0}, {"max_residual_deflection_m[b]": -1e-3}):
+        with pytest.raises(jsonschema.ValidationError):
+            jsonschema.validate(wrong, {**schema, "required": []})

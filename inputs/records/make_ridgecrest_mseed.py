@@ -1,7 +1,8 @@
 """Convert the 2019 Ridgecrest CI.CCC record (CSMIP/COSMOS V1 text) to a processed MiniSEED file.
 
 Standalone: ``python inputs/records/make_ridgecrest_mseed.py [--source RAW] [--output MSEED]``,
-with pound installed (``obspy.read`` reads the COSMOS file through pound's reader plugin).
+with pound installed (``obspy.read`` reads the COSMOS file through pound's reader plugin, and
+the Arias intensity and significant duration are pound's own, ``pounding_cli.records.metrics``).
 Reads the horizontal channels 1 (90 deg, East -> HNE) and 2 (360 deg, North -> HNN)
 of ``CICCC.RAW``, corrects and band-passes them, trims them to the strong-motion
 window and writes them in m/s² as FLOAT64 MiniSEED. See README.md beside this
@@ -14,19 +15,18 @@ import argparse
 import math
 from pathlib import Path
 
-import numpy as np
 import obspy
 from obspy import Stream, Trace, UTCDateTime
+
+from pounding_cli.records.metrics import Metrics, metrics
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_SOURCE = HERE / "../../../shared/records/ridgecrest2019_ccc/CICCC.RAW"
 DEFAULT_OUTPUT = HERE / "ridgecrest2019_ccc.mseed"
 
-G = 9.80665  # standard gravity, m/s² per g
 CHANNELS = {1: ("90", "HNE"), 2: ("360", "HNN")}  # COSMOS channel -> (azimuth, deg; SEED code)
 TAPER_FRACTION = 0.05  # cosine taper before filtering, fraction of the length at each end
 FREQMIN, FREQMAX, CORNERS = 0.1, 25.0, 4  # band-pass, Hz; poles (zero-phase)
-ARIAS_START, ARIAS_END = 0.05, 0.95  # fractions of Arias intensity bounding significant duration
 PRE_EVENT, POST_EVENT = 5.0, 15.0  # s kept before the 5 % time and after the 95 % time
 END_TAPER = 1.0  # s of cosine taper at each end of the trimmed window
 
@@ -61,20 +61,11 @@ def correct(trace: Trace) -> None:
     trace.filter("bandpass", freqmin=FREQMIN, freqmax=FREQMAX, corners=CORNERS, zerophase=True)
 
 
-def arias_build_up(trace: Trace) -> np.ndarray:
-    """Arias intensity I(t) = pi / (2 g) * integral_0^t a² dt at each sample, m/s (trapezoids)."""
-    squared = trace.data**2
-    steps = 0.5 * (squared[1:] + squared[:-1]) * trace.stats.delta
-    return math.pi / (2.0 * G) * np.concatenate(([0.0], np.cumsum(steps)))
-
-
-def arias_times(trace: Trace) -> tuple[float, float]:
-    """Times (s after the first sample) at which 5 % and 95 % of the Arias intensity is reached."""
-    build_up = arias_build_up(trace)
-    build_up /= build_up[-1]
-    t5 = np.searchsorted(build_up, ARIAS_START) * trace.stats.delta
-    t95 = np.searchsorted(build_up, ARIAS_END) * trace.stats.delta
-    return float(t5), float(t95)
+def trace_metrics(trace: Trace) -> Metrics:
+    """pound's intensity measures of a trace in m/s² (`pound record` prints the same): Arias
+    intensity of the acceleration taken as linear between samples, integrated exactly, and
+    the 5 % and 95 % Arias times, interpolated; times in s after the trace's first sample."""
+    return metrics(trace.data, trace.stats.delta)
 
 
 def strong_motion_window(stream: Stream) -> tuple[UTCDateTime, UTCDateTime]:
@@ -83,8 +74,8 @@ def strong_motion_window(stream: Stream) -> tuple[UTCDateTime, UTCDateTime]:
     Both ends are rounded outward to whole seconds after the first sample and kept in the record.
     """
     start = stream[0].stats.starttime
-    t5 = min(arias_times(tr)[0] for tr in stream)
-    t95 = max(arias_times(tr)[1] for tr in stream)
+    t5 = min(trace_metrics(tr).t5 for tr in stream)
+    t95 = max(trace_metrics(tr).t95 for tr in stream)
     end_limit = min(tr.stats.endtime for tr in stream) - start
     first = max(0.0, math.floor(t5 - PRE_EVENT))
     last = min(float(math.floor(end_limit)), math.ceil(t95 + POST_EVENT))
@@ -109,18 +100,18 @@ def windowed(stream: Stream) -> Stream:
 
 
 def report(full: Stream, shipped: Stream) -> None:
-    """Print the window, the shipped PGA (g) and the D5-95 (s) of the full corrected record."""
+    """Print the window, then per channel pound's measures of the full corrected record (they
+    choose the window) and of the shipped one (what `pound record` prints for the file)."""
     origin, first = full[0].stats.starttime, shipped[0].stats
     print(f"window: {first.starttime} to {first.endtime} "
           f"({first.starttime - origin:g}-{first.endtime - origin:g} s after the first raw sample; "
           f"{first.npts} points at {first.sampling_rate:g} Hz)")
-    for whole, trace in zip(full, shipped):
-        peak = int(np.argmax(np.abs(trace.data)))
-        t5, t95 = arias_times(whole)
-        pga, at = abs(trace.data[peak]) / G, peak * trace.stats.delta
-        print(f"{trace.id}: PGA {pga:.4f} g at {at:.2f} s into the window; "
-              f"D5-95 {t95 - t5:.2f} s ({t5:.2f}-{t95:.2f} s after the first raw sample), "
-              f"Arias intensity {arias_build_up(whole)[-1]:.3f} m/s")
+    for whole, trace in zip(full, shipped, strict=True):
+        w, m = trace_metrics(whole), trace_metrics(trace)
+        print(f"{trace.id}: full corrected record: D5-95 {w.significant_duration:.2f} s ({w.t5:.2f}-{w.t95:.2f} s "
+              f"after the first raw sample), Arias intensity {w.arias_intensity:.3f} m/s; shipped window: "
+              f"PGA {m.pga_g:.4f} g at {m.pga_time:.2f} s, D5-95 {m.significant_duration:.2f} s "
+              f"({m.t5:.2f}-{m.t95:.2f} s), Arias intensity {m.arias_intensity:.3f} m/s")
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -1,4 +1,4 @@
-"""Turns a validated model into plain arrays: M, K, Rayleigh C, modes, ground motion, Δt."""
+"""Turns a validated model into plain arrays: M, K, C, modes, ground motion, Δt."""
 
 from .building import BuildingArrays, ColumnLine, ColumnInstance
 from .contact import ContactArrays, PairInfo, contact_arrays, impact_stiffness

@@ -1,10 +1,11 @@
 """One building as arrays: floor masses at mass centres, storey stiffness matrices, its
-global K, modes and Rayleigh coefficients. Everything is in global plan coordinates.
+global K, modes and damping (Rayleigh coefficients, and an isolated building's links).
+Everything is in global plan coordinates.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -12,6 +13,7 @@ from ..errors import InputError
 from ..model import Building, Material
 from ..model.inelastic import Bearing, Hysteresis
 from .columns import column_local_stiffness, column_plan_stiffness, storey_stiffness
+from .damping import DampingLink, damping_matrix, isolated_frequency, isolation_dashpots, isolation_links
 from .modal import Modes, modes, rayleigh_coefficients
 from .polygon import polar_moment_about_centroid, polygon_area, polygon_centroid
 
@@ -55,6 +57,14 @@ class BuildingArrays:
     rayleigh: tuple[float, float]  # (a0 1/s, a1 s)
     members: list["Member"]  # yielding members: inelastic columns, isolators
     isolated: bool = False  # floor 0 is a base slab on isolators
+    damping_links: list[DampingLink] = field(default_factory=list)  # C − (a0·M + a1·K), damping.py
+    rayleigh_modes: Modes | None = None  # the modes that fix (a0, a1): an isolated building's superstructure's on a fixed base
+
+    @property
+    def damping(self) -> np.ndarray:
+        """Dense C (3N × 3N): Rayleigh, and for an isolated building its superstructure's on
+        its deformation plus the isolation system's dashpots (damping.py)."""
+        return damping_matrix(self.mass, self.stiffness, *self.rayleigh, self.damping_links)
 
     @property
     def n_floors(self) -> int:
@@ -124,19 +134,21 @@ def assemble_building(
     members: list[Member] = []
     storey_k = np.empty((n, 6, 6))
     if iso is not None:
-        plan_k, arms_b, arms_t = [], [], []
+        plan_k, plan_k2, arms_b, arms_t = [], [], [], []
         for isolator in iso.all_isolators():
-            bearing = bearings[isolator.bearing]
-            k1 = bearing.initial_stiffness
+            bearing = bearings[isolator.bearing].constants()
+            k1 = bearing.k1
             p = to_plan((isolator.x, isolator.y))
             plan_k.append(column_plan_stiffness(k1, k1, phi))
+            plan_k2.append(column_plan_stiffness(bearing.k2, bearing.k2, phi))
             arms_b.append(np.zeros(2))
             arms_t.append(p - centre[0])
-            fy = bearing.yield_strength()
-            alpha = bearing.post_yield_stiffness / k1
+            fy = bearing.fy
+            alpha = bearing.k2 / k1
             members.append(Member(isolator.name, "isolator", 0, np.zeros(2), arms_t[-1], phi, (k1, k1), (fy, fy),
-                                  (alpha, alpha), bearing.interaction == "elliptical"))  # fmt: skip
+                                  (alpha, alpha), bearings[isolator.bearing].interaction == "elliptical"))  # fmt: skip
         storey_k[0] = storey_stiffness(plan_k, arms_b, arms_t)
+        storey_k2 = storey_stiffness(plan_k2, arms_b, arms_t)[3:, 3:]  # the bearings' K2 on the slab
         _check_storey(storey_k[0], 0, building, field, source)
     for s0, floor in enumerate(storeys):
         s = s0 + base
@@ -176,26 +188,47 @@ def assemble_building(
             file=source,
             field=f"{field}.floors",
         ) from None
+    # Rayleigh damping from two modes: the building's, or an isolated building's superstructure
+    # on a fixed base (the base slab held: K and M without the slab's DOFs)
+    anchor = building_modes
+    whose = "the building has {n} modes (3 per floor)"
+    if iso is not None:
+        with np.errstate(over="ignore", invalid="ignore"):
+            anchor = modes(stiffness[3:, 3:], mass[3:], phi)
+        whose = "the superstructure (on a fixed base, which fixes its Rayleigh damping) has {n} modes (3 per floor)"
     (i, j), (zi, zj) = building.damping.modes, building.damping.ratios
-    if max(i, j) > 3 * n:
+    if max(i, j) > anchor.omega.size:
         raise InputError(
-            f"mode {max(i, j)} asked for, but the building has {3 * n} modes (3 per floor)",
+            f"mode {max(i, j)} asked for, but {whose.format(n=anchor.omega.size)}",
             file=source,
             field=f"{field}.damping.modes",
         )
-    w = building_modes.omega
+    w = anchor.omega
     try:
         with np.errstate(over="ignore", invalid="ignore"):
             rayleigh = rayleigh_coefficients(w[i - 1], w[j - 1], zi, zj)
     except ValueError as exc:
         raise InputError(
-            f"modes {i} and {j} have the same frequency ({exc}), so Rayleigh damping cannot be "
-            "fixed by them; choose two modes with different periods, e.g. [1, 3] for a "
-            "symmetric building",
+            f"modes {i} and {j}{' of the superstructure on a fixed base' if iso is not None else ''} have the "
+            f"same frequency ({exc}), so Rayleigh damping cannot be fixed by them; choose two modes with "
+            "different periods, e.g. [1, 3] for a symmetric building",
             file=source,
             field=f"{field}.damping.modes",
         ) from None
-    if not all(np.isfinite(rayleigh)) or not np.isfinite(w).all():
+    links = []
+    if iso is not None:
+        total = float(mass[0::3].sum())
+        if iso.damping_ratio > 0 and not isolated_frequency(storey_k2, total) > 0:
+            raise InputError(
+                "its bearings have no post-yield stiffness (K2 = 0), so the isolated frequency √(ΣK2/M) at "
+                "which damping_ratio is a fraction of critical is zero; leave damping_ratio at 0 (the "
+                "bearings' hysteresis damps the isolation system)",
+                file=source,
+                field=f"{field}.isolation.damping_ratio",
+            )
+        c_iso = isolation_dashpots(storey_k2, total, iso.damping_ratio)
+        links = isolation_links(mass, centre, storey_k[0][3:, 3:], c_iso, *rayleigh)
+    if not all(np.isfinite(rayleigh)) or not np.isfinite(w).all() or not np.isfinite(building_modes.omega).all():
         raise InputError(
             f"its natural frequencies ({w[-1]:.3g} rad/s at the highest) are beyond what can be "
             "computed; check the units of column sections (m), heights (m), E (Pa) and masses (kg)",
@@ -217,6 +250,8 @@ def assemble_building(
         rayleigh=rayleigh,
         members=members,
         isolated=iso is not None,
+        damping_links=links,
+        rayleigh_modes=anchor,
     )
 
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model import LoadedModel, Material
+from ..model import Contact, LoadedModel, Material
 from .building import BuildingArrays
 from .polygon import polygon_centroid
 
@@ -152,14 +152,15 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
                     _check_apart(polys[ia], polys[n_floors + o], info, _obstacle_field(model, o), loaded)
                     candidates.append((ia, n_floors + o, info))
 
-    k_pairs = [_pair_stiffness(loaded, info, i, j, n_floors) for i, j, info in candidates]
+    # each pair's settings: [contact]'s, with an obstacle's (or moat wall's) own in their place
+    settings = [obstacles[j - n_floors].applied_to(contact) if j >= n_floors else contact for _, j, _ in candidates]
+    k_pairs = [_pair_stiffness(loaded, info, s) for s, (_, _, info) in zip(settings, candidates)]
     kn = np.array([k[0] for k in k_pairs], dtype=float)
     kt = np.array([k[1] for k in k_pairs], dtype=float)
     m = np.asarray(masses)
     meff = np.array([m[i] if not np.isfinite(m[j]) else m[i] * m[j] / (m[i] + m[j]) for i, j, _ in candidates])
-    zeta = restitution_damping_ratio(contact.restitution) if contact.restitution not in (None, 1.0) else 0.0
+    zetas = {e: restitution_damping_ratio(e) for e in {s.restitution for s in settings} if e not in (None, 1.0)}
     n = len(candidates)
-    mu = [_pair_friction(contact, obstacles, j - n_floors) for _, j, _ in candidates]
     arrays = ContactArrays(
         body_poly=body_poly,
         body_nv=nv,
@@ -170,11 +171,11 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         pair_b=np.array([c[1] for c in candidates], dtype=np.int64),
         pair_kn=kn,
         pair_kt=kt,
-        pair_mu_s=np.array([m[0] for m in mu], dtype=float),
-        pair_mu_k=np.array([m[1] for m in mu], dtype=float),
-        pair_cn=np.full(n, contact.damping_normal or 0.0),
-        pair_zeta=np.full(n, zeta),
-        pair_ct=np.full(n, contact.damping_tangential or 0.0),
+        pair_mu_s=np.array([s.friction_static for s in settings], dtype=float),
+        pair_mu_k=np.array([s.friction_kinetic for s in settings], dtype=float),
+        pair_cn=np.array([s.damping_normal or 0.0 for s in settings], dtype=float),
+        pair_zeta=np.array([zetas.get(s.restitution, 0.0) for s in settings], dtype=float),
+        pair_ct=np.array([s.damping_tangential or 0.0 for s in settings], dtype=float),
         pair_meff=meff.astype(float),
         pairs=[c[2] for c in candidates],
         omega_max=0.0,
@@ -197,17 +198,6 @@ def _obstacle_field(model, o: int) -> str:
     return "obstacles"
 
 
-def _pair_friction(contact, obstacles: list, o: int) -> tuple[float, float]:
-    """(μ_s, μ_k) of a pair: [contact]'s, or the obstacle's own (o < 0: two floors); μ_k is
-    capped at μ_s."""
-    mu_s, mu_k = contact.friction_static, contact.friction_kinetic
-    if o >= 0:
-        obstacle = obstacles[o]
-        mu_s = obstacle.friction_static if obstacle.friction_static is not None else mu_s
-        mu_k = obstacle.friction_kinetic if obstacle.friction_kinetic is not None else mu_k
-    return mu_s, min(mu_k, mu_s)
-
-
 def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: str, loaded: LoadedModel) -> None:
     """An obstacle must not overlap a floor at its level before the ground moves."""
     import shapely
@@ -222,15 +212,11 @@ def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: 
         )
 
 
-def _pair_stiffness(loaded: LoadedModel, info: PairInfo, i: int, j: int, n_floors: int) -> tuple[float, float]:
-    """(k_N, k_T) of a pair: given in [contact], or "auto" from the bodies' materials."""
+def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact) -> tuple[float, float]:
+    """(k_N, k_T) of a pair: as its contact settings give them, or "auto" from the bodies'
+    materials."""
     model = loaded.model
-    contact = model.contact
-    kn, kt = contact.k_normal, contact.k_tangential
-    if j >= n_floors:
-        obstacle = model.all_obstacles()[j - n_floors]
-        kn = obstacle.k_normal if obstacle.k_normal is not None else kn
-        kt = obstacle.k_tangential if obstacle.k_tangential is not None else kt
+    kn, kt = settings.k_normal, settings.k_tangential
     if kn != "auto" and kt != "auto":
         return float(kn), float(kt)
     materials = []

@@ -49,6 +49,16 @@ class MemberArrays:
 
 
 @dataclass(frozen=True)
+class DampingLinkArrays:
+    """The damping links of all buildings (assembly/damping.py): 6×6 blocks added to
+    a0·M + a1·K on the DOFs of floors (bottom, top), global floor numbers, −1 the ground."""
+
+    matrix: np.ndarray  # (n, 6, 6)
+    bottom: np.ndarray  # (n,) int64
+    top: np.ndarray  # (n,) int64
+
+
+@dataclass(frozen=True)
 class System:
     """The structural system as arrays (SI units)."""
 
@@ -65,6 +75,7 @@ class System:
     column_storey: np.ndarray  # (n_columns,) int64, global storey of each column instance
     column_plan: np.ndarray  # (n_columns, 2) global plan position, m
     members: MemberArrays  # yielding members (may be none)
+    damping_links: DampingLinkArrays  # what an isolated building's C adds to a0·M + a1·K (may be none)
 
     @property
     def n_dof(self) -> int:
@@ -140,6 +151,13 @@ def combine(buildings: list[BuildingArrays]) -> System:
         for i, c in enumerate(cols)
     ])  # fmt: skip
     per_dof = [np.full(3 * b.n_floors, 1.0) for b in buildings]
+    links = [(int(start[b]) + k.bottom if k.bottom >= 0 else -1, int(start[b]) + k.top, k.matrix)
+             for b, bld in enumerate(buildings) for k in bld.damping_links]  # fmt: skip
+    damping_links = DampingLinkArrays(
+        matrix=np.array([k[2] for k in links], dtype=float).reshape(-1, 6, 6),
+        bottom=np.array([k[0] for k in links], dtype=np.int64),
+        top=np.array([k[1] for k in links], dtype=np.int64),
+    )
     return System(
         buildings=buildings,
         floor_start=start,
@@ -154,4 +172,5 @@ def combine(buildings: list[BuildingArrays]) -> System:
         column_storey=np.asarray(col_storey, dtype=np.int64),
         column_plan=np.asarray(col_plan, dtype=float).reshape(-1, 2),
         members=members,
+        damping_links=damping_links,
     )

@@ -87,6 +87,15 @@ def stability_limit(omega_max: float) -> float:
     return 2.0 / omega_max
 
 
+def governing_rule(limit: float, contact_limit: float, yielding: bool) -> tuple[str, float]:
+    """Which limit sets the automatic step, "structure" or "contact", and the fraction of it
+    taken: Δt_auto = fraction · that limit."""
+    structure = YIELD_DT_FRACTION if yielding else AUTO_DT_FRACTION
+    if CONTACT_DT_FRACTION * contact_limit < structure * limit:
+        return "contact", CONTACT_DT_FRACTION
+    return "structure", structure
+
+
 def time_grid(
     analysis: Analysis,
     omega_max: float,
@@ -114,13 +123,13 @@ def time_grid(
             field="analysis.dt",
         )
     auto = analysis.dt == "auto" and dt_fraction is None
-    structure_fraction = YIELD_DT_FRACTION if yielding else AUTO_DT_FRACTION
     if analysis.dt != "auto":
         target = float(analysis.dt)
     elif dt_fraction is not None:
         target = dt_fraction * min(limit, contact_limit)
     else:
-        target = dt_scale * min(structure_fraction * limit, CONTACT_DT_FRACTION * contact_limit)
+        which, fraction = governing_rule(limit, contact_limit, yielding)
+        target = dt_scale * fraction * (contact_limit if which == "contact" else limit)
     duration = analysis.duration if analysis.duration is not None else record_duration
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)

@@ -42,8 +42,10 @@ class Analysis(Strict):
     whole number of output intervals."""
 
     dt: TimeStep = "auto"
-    """Time step, s, or "auto": a fixed fraction of the central difference stability limit
-    2/ω_max, adjusted so that it divides the output interval (see docs/theory.md)."""
+    """Time step of the central difference method, s, or "auto": 0.05 × its stability limit
+    2/ω, ω the highest frequency of the structure or, when it is higher, the contact's
+    estimate, adjusted so that it divides the output interval (the hybrid's substep); `pound
+    validate` says which limit governs (see docs/theory.md)."""
 
     integrator: Literal["auto", "hybrid", "cdm"] = "auto"
     """"hybrid" (what "auto" chooses): the buildings advance exactly by their state-transition

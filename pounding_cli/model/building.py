@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
@@ -145,7 +145,8 @@ class Floor(Strict):
     """Floor mass per slab area, kg/m², 0.01 to 1e9 (the paper uses 1000). Give this or mass."""
 
     eccentricity: tuple[Real, Real] = (0.0, 0.0)
-    """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes."""
+    """Offset [e_x, e_y] of the mass centre from the slab centroid, m, building axes. The
+    mass centre must lie on the slab (the floor's mass does)."""
 
     rotational_inertia: Annotated[Positive, Field(ge=1e-3, le=1e18)] | None = None
     """Mass moment of inertia J about the vertical axis through the mass centre, kg·m².
@@ -157,6 +158,26 @@ class Floor(Strict):
 
     column_grid: ColumnGrid | None = None
     """Columns of the storey below this floor, generated on a grid (adds to `columns`)."""
+
+    @field_validator("eccentricity")
+    @classmethod
+    def _mass_centre_on_slab(cls, ecc: tuple[float, float], info: ValidationInfo) -> tuple[float, float]:
+        """The mass of a floor lies on its slab, a convex polygon, so its centre does too."""
+        import shapely
+
+        slab = info.data.get("slab")
+        if slab is None:  # the slab itself was refused
+            return ecc
+        outline = shapely.Polygon(slab)
+        centre = shapely.Point(outline.centroid.x + ecc[0], outline.centroid.y + ecc[1])
+        outside = outline.distance(centre)
+        if outside > 1e-6 * max(1.0, outline.length):  # as for columns under the slab
+            raise ValueError(
+                f"the mass centre, at ({centre.x:.6g}, {centre.y:.6g}) m, is {outside:.3g} m outside the slab: "
+                "a floor's mass lies on its slab, so its centre must lie within the slab outline; "
+                f"got [{ecc[0]:g}, {ecc[1]:g}] m from the slab centroid"
+            )
+        return ecc
 
     @model_validator(mode="after")
     def _mass_and_columns(self) -> "Floor":
@@ -191,7 +212,9 @@ class Floor(Strict):
 
 
 class RayleighDamping(Strict):
-    """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes."""
+    """Rayleigh damping C = a0·M + a1·K fixed by two damping ratios at two modes. Of a
+    base-isolated building: the superstructure's, from its modes on a fixed base and acting
+    on its deformation only (docs/theory.md §12)."""
 
     ratios: tuple[Annotated[Real, Field(ge=0, lt=1)], Annotated[Real, Field(ge=0, lt=1)]] = (
         0.05,
@@ -200,8 +223,9 @@ class RayleighDamping(Strict):
     """Damping ratios [ζ_i, ζ_j], fraction of critical (0.05 = 5 %)."""
 
     modes: tuple[Annotated[Count, Field(ge=1)], Annotated[Count, Field(ge=1)]] = (1, 3)
-    """Mode numbers [i, j] (1 = longest period) where the ratios hold. Default [1, 3]:
-    a symmetric building's modes 1 and 2 share one frequency and cannot anchor the fit."""
+    """Mode numbers [i, j] (1 = longest period) where the ratios hold; of a base-isolated
+    building, modes of its superstructure on a fixed base. Default [1, 3]: a symmetric
+    building's modes 1 and 2 share one frequency and cannot anchor the fit."""
 
     @field_validator("modes")
     @classmethod
@@ -229,7 +253,8 @@ class Building(Strict):
     """Floors from the lowest up; each carries the storey of columns beneath it."""
 
     damping: RayleighDamping = RayleighDamping()
-    """Rayleigh damping of this building."""
+    """Rayleigh damping of this building (of a base-isolated building: of its superstructure,
+    see `isolation.damping_ratio` for the isolation system)."""
 
     isolation: Isolation | None = None
     """The isolation system of a base-isolated building (base slab on isolators, optional moat

@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, PlainValidator, WithJsonSchema, model_validator
+from pydantic import Field, PlainValidator, ValidationInfo, WithJsonSchema, field_validator, model_validator
 
 from .base import Name, Real, Strict
-from .slab import SlabPolygon
+from .slab import Outline, convex_polygon
 
 
 def _number_or_auto(value: Any) -> float | Literal["auto"]:
@@ -76,13 +76,77 @@ class Contact(Strict):
         return self
 
 
-class Obstacle(Strict):
-    """A fixed rigid convex body in plan: a wall, a moat wall, a neighbour taken as rigid."""
+class ImpactOverrides(Strict):
+    """Impact parameters for the pairs a fixed body is in, each replacing [contact]'s where
+    given (resolved by :meth:`applied_to`, the same way for every such body)."""
+
+    k_normal: Annotated[Real, Field(gt=0, le=1e15)] | None = None
+    """Normal impact stiffness against this body per unit overlap area, N/m²; default: as
+    [contact] gives it."""
+
+    k_tangential: Annotated[Real, Field(gt=0, le=1e15)] | None = None
+    """Tangential impact stiffness against this body, N/m; default: as [contact] gives it."""
+
+    friction_static: Annotated[Real, Field(ge=0, le=10)] | None = None
+    """Static friction coefficient against this body; default: [contact]'s."""
+
+    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
+    """Kinetic friction coefficient against this body, at most its static one (when only the
+    static one is given here, [contact]'s kinetic one is capped at it); default: [contact]'s."""
+
+    restitution: Annotated[Real, Field(ge=0.14, le=1)] | None = None
+    """Coefficient of restitution e of a face-to-face impact against this body, 0.14 to 1,
+    from which its normal dashpot is derived (1: none); with damping_normal, replaces
+    [contact]'s normal dashpot. Default: [contact]'s."""
+
+    damping_normal: Annotated[Real, Field(gt=0)] | None = None
+    """Normal dashpot coefficient c_N against this body, N·s/m, instead of `restitution`;
+    default: [contact]'s normal dashpot."""
+
+    damping_tangential: Annotated[Real, Field(gt=0)] | None = None
+    """Tangential dashpot coefficient c_T against this body, N·s/m; default: [contact]'s."""
+
+    @model_validator(mode="after")
+    def _consistent_overrides(self) -> "ImpactOverrides":
+        mu_s, mu_k = self.friction_static, self.friction_kinetic
+        if mu_s is not None and mu_k is not None and mu_k > mu_s:
+            raise ValueError(f"friction_kinetic ({mu_k:g}) exceeds friction_static ({mu_s:g}); a sliding "
+                             "contact cannot resist more than a sticking one")  # fmt: skip
+        if self.restitution is not None and self.damping_normal is not None:
+            raise ValueError("give either 'restitution' or 'damping_normal', not both")
+        return self
+
+    def overrides(self) -> dict[str, Any]:
+        """The impact parameters given, by field name."""
+        return {k: getattr(self, k) for k in IMPACT_FIELDS if getattr(self, k) is not None}
+
+    def applied_to(self, contact: Contact) -> Contact:
+        """The contact settings of this body's pairs: [contact]'s with the parameters given
+        here in their place. A restitution or damping_normal given here replaces [contact]'s
+        normal dashpot, whichever way it was given; μ_k is capped at μ_s."""
+        given = self.overrides()
+        if not given:
+            return contact
+        merged = contact.model_dump()
+        if "restitution" in given or "damping_normal" in given:
+            merged["restitution"] = merged["damping_normal"] = None
+        merged.update(given)
+        merged["friction_kinetic"] = min(merged["friction_kinetic"], merged["friction_static"])
+        return Contact.model_validate(merged)
+
+
+IMPACT_FIELDS = tuple(ImpactOverrides.model_fields)
+"""The fields of [contact] a fixed body (an obstacle, a moat wall) may give for itself."""
+
+
+class Obstacle(ImpactOverrides):
+    """A fixed rigid convex body in plan: a wall, a moat wall, a neighbour taken as rigid.
+    Its impact parameters, where given, replace [contact]'s for the pairs it is in."""
 
     name: Name
     """Obstacle name, unique among buildings and obstacles."""
 
-    polygon: SlabPolygon
+    polygon: Outline
     """Outline: a convex polygon [[X, Y], ...] in global coordinates, m, either orientation."""
 
     elevation: Real | tuple[Real, Real]
@@ -92,18 +156,14 @@ class Obstacle(Strict):
     material: Name
     """Name of the obstacle's material in [materials] (for "auto" impact stiffness)."""
 
-    k_normal: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Normal impact stiffness against this obstacle per unit overlap area, N/m²; default:
-    as [contact] gives it."""
-
-    k_tangential: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Tangential impact stiffness against this obstacle, N/m; default: as [contact] gives it."""
-
-    friction_static: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Static friction coefficient against this obstacle; default: [contact]'s."""
-
-    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Kinetic friction coefficient against this obstacle; default: [contact]'s."""
+    @field_validator("polygon")
+    @classmethod
+    def _convex(cls, polygon: list[tuple[float, float]], info: ValidationInfo) -> list[tuple[float, float]]:
+        """Convex, returned counter-clockwise; the messages name the obstacle (validated
+        before its polygon) rather than a slab."""
+        name = info.data.get("name")
+        what = f"the outline of obstacle {name!r}" if name else "the obstacle's outline"
+        return convex_polygon(polygon, what, "obstacle", "pound models each obstacle as one rigid convex polygon")
 
     @model_validator(mode="after")
     def _range_ordered(self) -> "Obstacle":

@@ -3,18 +3,23 @@ system of a base-isolated building and its moat wall.
 
 A column's law is named in ``[hysteresis.<name>]`` and referred to by the column (its initial
 stiffness comes from its section, 12EI/h³ per local axis). A bearing type is named in
-``[bearings.<name>]`` with its own stiffness, as manufacturers give it; the isolators of a
-building's ``isolation`` table refer to it. Both are bilinear: initial stiffness K1 up to the
-yield force F_y, then K2 = α·K1 (docs/theory.md, "Yielding members").
+``[bearings.<name>]`` by any three constants that fix its bilinear law, as manufacturers
+and engineers give them; the isolators of a building's ``isolation`` table refer to it. Both
+are bilinear: initial stiffness K1 up to the yield force F_y, then K2 = α·K1 (docs/theory.md,
+"Yielding members").
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Annotated, Callable, Literal
 
 from pydantic import Field, model_validator
 
 from .base import Name, Positive, Real, Strict
+from .contact import ImpactOverrides
 from .slab import SlabPolygon
 
 Interaction = Literal["elliptical", "independent"]
@@ -52,26 +57,109 @@ class Hysteresis(Strict):
         return self
 
 
+@dataclass(frozen=True)
+class BearingConstants:
+    """The five constants of a bilinear bearing (SI units), related by F_y = K1·d_y and
+    Q = F_y − K2·d_y = (K1 − K2)·d_y."""
+
+    k1: float  # initial stiffness K1, N/m
+    k2: float  # post-yield stiffness K2, N/m
+    q: float  # characteristic strength Q, N
+    fy: float  # yield force F_y, N
+    dy: float  # yield displacement d_y, m
+
+
+BEARING_FIELDS = {
+    "initial_stiffness": "K1",
+    "post_yield_stiffness": "K2",
+    "characteristic_strength": "Q",
+    "yield_force": "F_y",
+    "yield_displacement": "d_y",
+}
+"""The fields of a bearing that fix its bilinear law, by symbol."""
+
+
+def _ratio(a: float, b: float) -> float:
+    return a / b if b != 0 else math.nan
+
+
+# (K1, K2, d_y) from each set of three given constants that fixes the law
+_SOLVE: dict[frozenset[str], Callable[[dict[str, float]], tuple[float, float, float]]] = {
+    frozenset({"K1", "K2", "Q"}): lambda g: (g["K1"], g["K2"], _ratio(g["Q"], g["K1"] - g["K2"])),
+    frozenset({"K1", "K2", "F_y"}): lambda g: (g["K1"], g["K2"], g["F_y"] / g["K1"]),
+    frozenset({"K1", "K2", "d_y"}): lambda g: (g["K1"], g["K2"], g["d_y"]),
+    frozenset({"K1", "Q", "F_y"}): lambda g: (g["K1"], g["K1"] * (1 - g["Q"] / g["F_y"]), g["F_y"] / g["K1"]),
+    frozenset({"K1", "Q", "d_y"}): lambda g: (g["K1"], g["K1"] - g["Q"] / g["d_y"], g["d_y"]),
+    frozenset({"K2", "Q", "F_y"}): lambda g: (g["K2"] + _ratio(g["Q"] * g["K2"], g["F_y"] - g["Q"]), g["K2"],
+                                              _ratio(g["F_y"] - g["Q"], g["K2"])),
+    frozenset({"K2", "Q", "d_y"}): lambda g: (g["K2"] + g["Q"] / g["d_y"], g["K2"], g["d_y"]),
+    frozenset({"K2", "F_y", "d_y"}): lambda g: (g["F_y"] / g["d_y"], g["K2"], g["d_y"]),
+    frozenset({"Q", "F_y", "d_y"}): lambda g: (g["F_y"] / g["d_y"], (g["F_y"] - g["Q"]) / g["d_y"], g["d_y"]),
+}  # fmt: skip
+
+
+def resolve_bearing(given: dict[str, float]) -> BearingConstants:
+    """K1, K2, Q, F_y and d_y of a bilinear bearing from three of them (`given` by field
+    name, BEARING_FIELDS). Raises ValueError naming the fields when they are more or fewer
+    than three, when the three do not fix the law (K1, F_y and d_y: F_y = K1·d_y ties them
+    and leaves K2 free; K2 = 0 with Q and F_y: F_y = Q then, and d_y is free), or when the
+    law they fix is not bilinear hardening: K1 > K2 ≥ 0, d_y > 0 (so Q > 0, F_y > Q)."""
+    named = {BEARING_FIELDS[k]: v for k, v in given.items()}
+    fields = " and ".join(", ".join(given).rsplit(", ", 1)) if given else "none"
+    if len(given) != 3:
+        raise ValueError(
+            f"give exactly three of initial_stiffness (K1), post_yield_stiffness (K2), characteristic_strength "
+            f"(Q), yield_force (F_y) and yield_displacement (d_y), e.g. K1, K2 and Q, or Q, K2 and d_y; "
+            f"given: {fields} ({'too many: they may contradict each other' if len(given) > 3 else 'too few'})"
+        )
+    solve = _SOLVE.get(frozenset(named))
+    if solve is None:
+        raise ValueError(
+            f"{fields} do not fix the bearing: F_y = K1·d_y ties them, and the post-yield stiffness is left "
+            "free; give post_yield_stiffness (K2) or characteristic_strength (Q) instead of one of them"
+        )
+    k1, k2, dy = solve(named)
+    if not math.isfinite(dy) and "K2" in named and named["K2"] == 0:
+        raise ValueError(f"{fields} do not fix the bearing: with K2 = 0, F_y = Q and the yield displacement "
+                         "is left free; give initial_stiffness (K1) or yield_displacement (d_y) instead of one of them")  # fmt: skip
+    c = BearingConstants(k1, k2, (k1 - k2) * dy, k1 * dy, dy)
+    for symbol, value in named.items():  # the given values stay exactly as given
+        c = dataclasses.replace(c, **{_ATTRIBUTE[symbol]: value})
+    if not (all(math.isfinite(v) for v in dataclasses.astuple(c)) and c.k1 > c.k2 >= 0 and c.dy > 0):
+        raise ValueError(
+            f"{fields} are inconsistent: they give K1 = {k1:.6g} N/m, K2 = {k2:.6g} N/m and d_y = {dy:.6g} m, "
+            "but a bilinear bearing needs K1 > K2 ≥ 0 and d_y > 0 (so that 0 < Q < F_y)"
+        )
+    return c
+
+
+_ATTRIBUTE = {"K1": "k1", "K2": "k2", "Q": "q", "F_y": "fy", "d_y": "dy"}
+
+
 class Bearing(Strict):
     """An isolation bearing type (lead-rubber, friction pendulum, …) as a bilinear law, the
-    same in every horizontal direction: K1 up to the yield displacement, then K2. A friction
-    pendulum bearing of radius R carrying W with friction μ: K2 = W/R, Q = μ·W and a stiff K1."""
+    same in every horizontal direction: K1 up to the yield displacement d_y (force F_y), then
+    K2, with F_y = K1·d_y and the characteristic strength Q = F_y − K2·d_y. Give three of K1,
+    K2, Q, F_y and d_y that fix the law: K1 and K2 with one of Q, F_y or d_y; a lead-rubber
+    datasheet's Q, K2 and d_y; … — not K1, F_y and d_y, which F_y = K1·d_y ties, leaving K2
+    free. A friction pendulum bearing of radius R carrying W with friction μ: K2 = W/R,
+    Q = μ·W and a small d_y."""
 
-    initial_stiffness: Annotated[Real, Field(gt=0, le=1e12)]
-    """Initial (elastic) stiffness K1, N/m."""
+    initial_stiffness: Annotated[Real, Field(gt=0, le=1e12)] | None = None
+    """Initial (elastic) stiffness K1, N/m, above K2."""
 
-    post_yield_stiffness: Annotated[Real, Field(ge=0, le=1e12)]
-    """Post-yield stiffness K2, N/m, below K1."""
+    post_yield_stiffness: Annotated[Real, Field(ge=0, le=1e12)] | None = None
+    """Post-yield stiffness K2, N/m, below K1 (0: no hardening)."""
 
     characteristic_strength: Force | None = None
-    """Characteristic strength Q, the force at zero displacement on the post-yield branch, N;
-    the yield force is Q·K1/(K1 − K2). Give one of this, yield_force or yield_displacement."""
+    """Characteristic strength Q, the force at zero displacement on the post-yield branch, N:
+    Q = F_y − K2·d_y = (K1 − K2)·d_y."""
 
     yield_force: Force | None = None
-    """Yield force F_y, N."""
+    """Yield force F_y, N: F_y = K1·d_y."""
 
     yield_displacement: Deflection | None = None
-    """Yield displacement d_y, m (the yield force is K1·d_y)."""
+    """Yield displacement d_y, m."""
 
     interaction: Interaction = "elliptical"
     """"elliptical" (here a circle: a bearing yields at the same force in every direction) or
@@ -79,26 +167,16 @@ class Bearing(Strict):
 
     @model_validator(mode="after")
     def _consistent(self) -> "Bearing":
-        given = [self.characteristic_strength, self.yield_force, self.yield_displacement]
-        if sum(g is not None for g in given) != 1:
-            raise ValueError(
-                "give exactly one of 'characteristic_strength' (N), 'yield_force' (N) or 'yield_displacement' (m)"
-            )
-        if not self.post_yield_stiffness < self.initial_stiffness:
-            raise ValueError(
-                f"post_yield_stiffness ({self.post_yield_stiffness:g} N/m) must be below initial_stiffness "
-                f"({self.initial_stiffness:g} N/m)"
-            )
+        self.constants()
         return self
 
-    def yield_strength(self) -> float:
-        """Yield force F_y, N."""
-        k1, k2 = self.initial_stiffness, self.post_yield_stiffness
-        if self.yield_force is not None:
-            return self.yield_force
-        if self.yield_displacement is not None:
-            return k1 * self.yield_displacement
-        return self.characteristic_strength * k1 / (k1 - k2)
+    def given(self) -> dict[str, float]:
+        """The constants given in the file, by field name."""
+        return {k: getattr(self, k) for k in BEARING_FIELDS if getattr(self, k) is not None}
+
+    def constants(self) -> BearingConstants:
+        """K1, K2, Q, F_y and d_y, resolved from the three given."""
+        return resolve_bearing(self.given())
 
 
 class Isolator(Strict):
@@ -141,9 +219,10 @@ class IsolatorGrid(Strict):
         ]
 
 
-class Moat(Strict):
+class Moat(ImpactOverrides):
     """The moat (retaining) wall around the base slab: one rigid wall segment along each edge
-    of the slab, at the slab's level, a clear gap away."""
+    of the slab, at the slab's level, a clear gap away. Its impact parameters (stiffness,
+    friction, dashpots), where given, replace [contact]'s for the base slab against it."""
 
     gap: Annotated[Real, Field(gt=0, le=100)]
     """Clear distance from each edge of the base slab at rest to the wall, m."""
@@ -153,19 +232,6 @@ class Moat(Strict):
 
     material: Name
     """Name of the wall's material in [materials] (for "auto" impact stiffness)."""
-
-    k_normal: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Normal impact stiffness against the wall per unit overlap area, N/m²; default: as
-    [contact] gives it."""
-
-    k_tangential: Annotated[Real, Field(gt=0, le=1e15)] | None = None
-    """Tangential impact stiffness against the wall, N/m; default: as [contact] gives it."""
-
-    friction_static: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Static friction coefficient against the wall; default: [contact]'s."""
-
-    friction_kinetic: Annotated[Real, Field(ge=0, le=10)] | None = None
-    """Kinetic friction coefficient against the wall; default: [contact]'s."""
 
 
 class Isolation(Strict):
@@ -197,6 +263,13 @@ class Isolation(Strict):
 
     moat: Moat | None = None
     """The moat wall around the base slab; none if absent."""
+
+    damping_ratio: Annotated[Real, Field(ge=0, lt=1)] = 0.0
+    """Viscous damping of the isolation system as a fraction of critical at the isolated
+    frequency ω_b = √(ΣK2/M) (M the building's mass, K2 the bearings' post-yield stiffness):
+    dashpots in parallel with the isolators, c = 2·ζ_b·K2/ω_b each. Default 0: the bearings
+    damp by their hysteresis only, and the isolated modes get no viscous damping (the
+    building's Rayleigh damping acts on the superstructure's deformation only)."""
 
     @model_validator(mode="after")
     def _mass_and_isolators(self) -> "Isolation":

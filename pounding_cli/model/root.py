@@ -127,7 +127,7 @@ class PoundModel(Strict):
         ox, oy = building.origin
         plan = [(ox + c * x - s * y, oy + s * x + c * y) for x, y in iso.slab]
         moat = iso.moat
-        overrides = {k: getattr(moat, k) for k in ("k_normal", "k_tangential", "friction_static", "friction_kinetic")}
+        overrides = moat.overrides()
         return [
             Obstacle(name=f"{building.name}.moat{k + 1}", polygon=wall, elevation=iso.height, material=moat.material,
                      **overrides)  # fmt: skip

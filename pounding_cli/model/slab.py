@@ -28,11 +28,18 @@ def signed_area(vertices: list[Point]) -> float:
     )
 
 
-def convex_polygon(vertices: list[Point]) -> list[Point]:
-    """Check a slab outline and return it counter-clockwise.
+def convex_polygon(
+    vertices: list[Point],
+    what: str = "the slab polygon",
+    body: str = "slab",
+    why: str = "pound models each floor diaphragm as one convex polygon",
+) -> list[Point]:
+    """Check an outline and return it counter-clockwise.
 
     Accepts either orientation and collinear vertices; rejects repeated vertices, zero area,
-    self-intersection and reflex corners, each with a message that says where.
+    self-intersection and reflex corners, each with a message that says where. The messages
+    name the outline by `what` ("the slab polygon", "the outline of obstacle 'wall'") and
+    `body` ("slab", "obstacle"), and say by `why` why it must be convex.
     """
     import shapely
 
@@ -40,7 +47,7 @@ def convex_polygon(vertices: list[Point]) -> list[Point]:
     if len(pts) >= 4 and pts[0] == pts[-1]:
         pts = pts[:-1]  # a closing vertex repeated, as GIS files write it
     if len(pts) < 3:
-        raise ValueError(f"a slab polygon needs at least 3 vertices [x, y] in m, got {len(pts)}")
+        raise ValueError(f"{what} needs at least 3 vertices [x, y] in m, got {len(pts)}")
     size = max(max(abs(x), abs(y)) for x, y in pts) or 1.0
     for i, p in enumerate(pts):
         q = pts[(i + 1) % len(pts)]
@@ -54,12 +61,12 @@ def convex_polygon(vertices: list[Point]) -> list[Point]:
         abs((b[0] - x0) * (c[1] - y0) - (b[1] - y0) * (c[0] - x0)) <= 1e-12 * size * size
         for b, c in zip(pts[1:], pts[2:])
     ):
-        raise ValueError("the slab polygon has zero area (all vertices on one line)")
+        raise ValueError(f"{what} has zero area (all vertices on one line)")
     polygon = shapely.Polygon(pts)
     if not polygon.is_valid:
         raise ValueError(
-            f"the slab polygon is not simple ({shapely.is_valid_reason(polygon)}); "
-            "list the corners in order around the slab"
+            f"{what} is not simple ({shapely.is_valid_reason(polygon)}); "
+            f"list the corners in order around the {body}"
         )
     if signed_area(pts) < 0:
         pts.reverse()
@@ -69,15 +76,13 @@ def convex_polygon(vertices: list[Point]) -> list[Point]:
         cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
         if cross < -1e-12 * size * size:
             raise ValueError(
-                f"the slab polygon is not convex: the corner at {_fmt(b)} points inwards; "
-                "pound models each floor diaphragm as one convex polygon"
+                f"{what} is not convex: the corner at {_fmt(b)} points inwards; {why}"
             )
     return pts
 
 
-SlabPolygon = Annotated[
-    list[tuple[Real, Real]],
-    Field(min_length=3, max_length=10_000),
-    AfterValidator(convex_polygon),
-]
+Outline = Annotated[list[tuple[Real, Real]], Field(min_length=3, max_length=10_000)]
+"""A polygon [[x, y], ...] in m, not yet checked (see convex_polygon)."""
+
+SlabPolygon = Annotated[Outline, AfterValidator(convex_polygon)]
 """A convex polygon [[x, y], ...] in m, either orientation; stored counter-clockwise."""

@@ -219,6 +219,15 @@ class ImpactEvent(_Output):
     """Whether the contact slipped."""
     pair: int
     """Row of /impacts/pairs (0-based)."""
+    tangential_force_at_peak: float | None
+    """Tangential force on body B at the peak normal force, N, signed along t = ẑ × n; null in
+    files written before the log kept it."""
+    normal_x: float | None
+    """Unit normal n from A into B at the peak normal force, global X component, dimensionless;
+    null in files written before the log kept it."""
+    normal_y: float | None
+    """Unit normal n from A into B at the peak normal force, global Y component, dimensionless;
+    null in files written before the log kept it."""
 
 
 class PairReport(_Output):
@@ -571,8 +580,9 @@ def _yielding(b: Any, column: str | None) -> YieldingReport | None:
 def _event(row: np.void) -> ImpactEvent:
     fields = {name: row[name] for name in ImpactEvent.model_fields}
     out = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in fields.items()}
-    if not math.isfinite(out["t_end"]):
-        out["t_end"] = None
+    for name in ("t_end", "tangential_force_at_peak", "normal_x", "normal_y"):
+        if not math.isfinite(out[name]):
+            out[name] = None
     return ImpactEvent(**out)
 
 

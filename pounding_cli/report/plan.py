@@ -11,10 +11,12 @@ Which instant, and where the numbers come from:
 1. if some output sample caught a contact, the sample with the largest total normal force:
    positions, action points, F_N and F_T are that sample's stored values;
 2. otherwise (impacts shorter than the output interval) the peak of the impact log's largest
-   episode: its t_peak, action point and peak F_N are exact, the positions are interpolated
-   linearly between samples, the normal is recomputed from them (perpendicular to the line
-   through the two points where the outlines cross, or along the shortest segment between
-   them if they no longer overlap), and F_T, which the log does not keep, is not drawn;
+   episode: its t_peak, action point, peak F_N, the tangential force F_T and the normal n at
+   that step are exact (the solver's own values); the positions are interpolated linearly
+   between samples. A file written before the log kept F_T and n draws no F_T and
+   recomputes the normal from the interpolated outlines (perpendicular to the line through
+   the two points where they cross, or along the shortest segment between them if they no
+   longer overlap);
 3. without impacts, the instant of the largest floor displacement.
 
 The drawn action point moves with the magnified slabs (by the mean of the two bodies'
@@ -126,10 +128,15 @@ def peak_instant(run: Run, geometry: PlanGeometry) -> Instant:
         e = c.events[int(np.argmax(c.events["peak_normal_force"]))]
         t = float(e["t_peak"])
         a, b = _pair_bodies(c.pairs[int(e["pair"])])
-        normal = contact_normal(_outline(run, geometry, a, t), _outline(run, geometry, b, t))
         point = np.array([float(e["x"]), float(e["y"])])
-        mark = ContactMark(int(e["pair"]), a, b, point, normal, float(e["peak_normal_force"]), None)
-        return Instant(t, "log", f"peak impact force {mark.f_normal / 1e6:.3g} MN (impact log; F_T not logged)", [mark])
+        logged = bool(np.isfinite(e["tangential_force_at_peak"]))  # files of older versions lack F_T and n
+        if logged:
+            normal, f_t = np.array([float(e["normal_x"]), float(e["normal_y"])]), float(e["tangential_force_at_peak"])
+        else:
+            normal, f_t = contact_normal(_outline(run, geometry, a, t), _outline(run, geometry, b, t)), None
+        mark = ContactMark(int(e["pair"]), a, b, point, normal, float(e["peak_normal_force"]), f_t)
+        source = "impact log" if logged else "impact log; F_T not logged"
+        return Instant(t, "log", f"peak impact force {mark.f_normal / 1e6:.3g} MN ({source})", [mark])
     best, t = -1.0, float(r.time[0]) if r.time.size else 0.0
     for b in r.buildings.values():
         amp = np.hypot(b.displacement[:, :, 0], b.displacement[:, :, 1]).max(axis=1)

@@ -1,10 +1,13 @@
 """Reading a sweep's output folder for a report: the summary table as rows, its columns.
 
-The folder is what ``pound sweep`` writes (docs/sweep.md, "The output folder"): the report
-reads ``summary.h5`` — the table ``/cases`` (one row per case, one field per column, NaN or
-−1 where a case has no value, lists and tables as JSON text) with the column descriptions in
-its ``columns`` attribute, and the sweep's title, files, studies and counts in the file's
-attributes. Rows come back as the JSON rows of ``pound sweep --json`` (null for no value).
+The folder is what ``pound sweep`` writes (docs/sweep.md, "The output folder"). The rows are
+built as :func:`pounding_cli.sweep.read_summary` builds them — the manifest ``sweep.json``
+lists every case, its hash and swept values and the columns; each case's file in ``cases/``
+gives its status and results — and nothing is written. ``summary.h5`` is not read: a sweep
+killed with ``kill -9`` never rewrites it, so it may lack cases or say "pending" for cases
+done since. Only a folder without the manifest or the case files (a summary copied alone) is
+read from ``summary.h5``, and the report says so. Rows come back as the JSON rows of
+``pound sweep --json`` (null for no value).
 """
 
 from __future__ import annotations
@@ -20,16 +23,22 @@ from ..errors import InputError
 
 SUMMARY = "summary.h5"
 MANIFEST = "sweep.json"
+CASES = "cases"
+FROM_CASE_FILES = "case files"
+FROM_SUMMARY = "summary.h5"
 
 
 @dataclass
 class Sweep:
-    """A sweep's summary: attributes, columns (name, kind, dtype, units, description) and rows."""
+    """A sweep's summary: attributes (pound_version, title, sweep_file, base, studies),
+    columns (name, kind, dtype, units, description), rows, and where the rows were read:
+    :data:`FROM_CASE_FILES` (the manifest and the case files) or :data:`FROM_SUMMARY`."""
 
     folder: Path
     attrs: dict[str, Any]
     columns: list[dict[str, str]]
     rows: list[dict[str, Any]]
+    source: str = FROM_CASE_FILES
 
     @property
     def title(self) -> str:
@@ -38,8 +47,11 @@ class Sweep:
     @property
     def studies(self) -> dict[str, str]:
         """Study name → description ("" → "" for a sweep of one study)."""
+        studies = self.attrs.get("studies", {})
+        if isinstance(studies, dict):
+            return studies
         try:
-            return json.loads(self.attrs.get("studies", "{}"))
+            return json.loads(studies)
         except json.JSONDecodeError:
             return {}
 
@@ -65,26 +77,51 @@ def is_sweep_folder(path: Path) -> bool:
 
 
 def open_sweep(folder: str | Path) -> Sweep:
-    """Read a sweep folder's summary; InputError naming the folder if it is not one."""
+    """Read a sweep folder as its case files stand now (the module's docstring), writing
+    nothing; InputError naming the folder if it is not one."""
+    folder = Path(folder)
+    if (folder / MANIFEST).exists() and (folder / CASES).is_dir():
+        return _from_case_files(folder)
+    if (folder / SUMMARY).exists():
+        return _from_summary(folder)
+    if (folder / MANIFEST).exists():
+        raise InputError(f"it has a {MANIFEST} but no {CASES}/ folder and no {SUMMARY}: no case has run; run the "
+                         "sweep into it", file=folder)  # fmt: skip
+    raise InputError(f"not a sweep output folder (no {MANIFEST}); give a folder written by `pound sweep` or "
+                     "result files", file=folder)  # fmt: skip
+
+
+def _from_case_files(folder: Path) -> Sweep:
+    """The rows of read_summary, with the manifest's attributes and columns."""
+    from ..sweep.store import OutputFolder
+    from ..sweep.summary import summary_rows
+
+    out = OutputFolder(folder)
+    manifest = out.read_manifest()
+    try:
+        columns = manifest["columns"]
+        rows = summary_rows(out, manifest)
+    except (KeyError, TypeError) as exc:
+        raise InputError(f"{MANIFEST} is not the manifest of a pound sweep (no {exc})", file=folder) from None
+    attrs = {key: manifest.get(key, "") for key in ("pound_version", "title", "sweep_file", "base")}
+    attrs["studies"] = manifest.get("studies", {})
+    return Sweep(folder, attrs, columns, rows, FROM_CASE_FILES)
+
+
+def _from_summary(folder: Path) -> Sweep:
+    """The table of summary.h5 as the sweep last wrote it."""
     import h5py
 
-    folder = Path(folder)
     path = folder / SUMMARY
-    if not path.exists():
-        hint = ("it has a sweep.json but no summary.h5: rerun the sweep (which runs only what is missing) or call "
-                "pounding_cli.sweep.rebuild_summary(folder)") if (folder / MANIFEST).exists() else (
-                "not a sweep output folder (no summary.h5); give a folder written by `pound sweep` or result files")  # fmt: skip
-        raise InputError(hint, file=folder)
     try:
         with h5py.File(path, "r") as f:
             attrs = {k: _plain(v) for k, v in f.attrs.items()}
             table = f["cases"][()]
             columns = json.loads(f["cases"].attrs["columns"])
     except (OSError, KeyError, json.JSONDecodeError) as exc:
-        raise InputError(f"cannot read the sweep summary ({exc}); rebuild it with pounding_cli.sweep.rebuild_summary",
-                         file=path) from None  # fmt: skip
+        raise InputError(f"cannot read the sweep summary ({exc})", file=path) from None
     rows = [{c["name"]: _value(record[c["name"]], c["dtype"]) for c in columns} for record in table]
-    return Sweep(folder, attrs, columns, rows)
+    return Sweep(folder, attrs, columns, rows, FROM_SUMMARY)
 
 
 def _plain(value: Any) -> Any:
@@ -107,6 +144,34 @@ def _value(raw: Any, dtype: str) -> Any:
     return str(value)
 
 
+SHORT = 40
+"""Characters a parameter value may take in a table cell or a legend."""
+
+
+def short_value(value: Any, width: int = SHORT) -> str:
+    """A value as a table cell or legend shows it: a table with a `name` (an inline record)
+    by its name, other lists and tables as JSON without their empty entries (a record's
+    unset "" and null fields), cut to `width` characters with "…". CSV and JSON keep the
+    whole value."""
+    if isinstance(value, dict) and isinstance(value.get("name"), str) and value["name"].strip():
+        text = value["name"].strip()
+    elif isinstance(value, (list, dict)):
+        text = json.dumps(_without_empty(value), ensure_ascii=False)
+    else:
+        text = str(value)
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
+def _without_empty(value: Any) -> Any:
+    """`value` without the entries of its tables that are "", null, [] or {} (recursively)."""
+    if isinstance(value, dict):
+        kept = {k: _without_empty(v) for k, v in value.items()}
+        return {k: v for k, v in kept.items() if v not in ("", None, [], {})}
+    if isinstance(value, list):
+        return [_without_empty(v) for v in value]
+    return value
+
+
 def select(sweep: Sweep, studies: Sequence[str] | None = None) -> Sweep:
     """The sweep restricted to some studies (InputError for a study it does not have)."""
     if not studies:
@@ -116,7 +181,8 @@ def select(sweep: Sweep, studies: Sequence[str] | None = None) -> Sweep:
     if unknown:
         raise InputError(f"no study {unknown[0]!r}; studies: {', '.join(repr(k) for k in known)}", file=sweep.folder,
                          field="--study")  # fmt: skip
-    return Sweep(sweep.folder, sweep.attrs, sweep.columns, [r for r in sweep.rows if r["study"] in studies])
+    return Sweep(sweep.folder, sweep.attrs, sweep.columns, [r for r in sweep.rows if r["study"] in studies],
+                 sweep.source)  # fmt: skip
 
 
 def match_cases(sweep: Sweep, patterns: Sequence[str]) -> list[dict[str, Any]]:

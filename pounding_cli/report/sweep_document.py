@@ -1,10 +1,12 @@
 """The report of a sweep folder: its JSON document (``pound report DIR/ --json``), the JSON
 Schema of that document, and its tables.
 
-The document holds the summary as ``summary.h5`` has it — every column described, one row
-per case, the rows exactly the objects of ``pound sweep --json`` (validated by
-``schemas/sweep-summary.schema.json``) — with the sweep's title, files, studies and counts.
-The tables show the cases with their parameters and results in mm, mrad and kN.
+The document holds the summary as the folder's case files give it now (:mod:`.sweep_data`)
+— every column described, one row per case, the rows exactly the objects of ``pound sweep
+--json`` (validated by ``schemas/sweep-summary.schema.json``) — with the sweep's title,
+files, studies and counts. The tables show the cases with their parameters and results in
+mm, mrad and kN; a parameter value that is a list or a table (an inline record) is shortened
+to its name or to about 40 characters there, and kept whole in the JSON.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from typing import Any, Sequence
 
 from pydantic import BaseModel, ConfigDict
 
-from .sweep_data import Sweep, column_names, open_sweep, select
+from .sweep_data import FROM_CASE_FILES, MANIFEST, SUMMARY, Sweep, column_names, open_sweep, select, short_value
 from .tables import TableSpec
 
 
@@ -58,7 +60,7 @@ class SweepReport(_Output):
     title: str
     """The sweep's title."""
     pound_version: str
-    """Version of pound that wrote the summary."""
+    """Version of pound that ran the sweep (of its manifest, sweep.json)."""
     sweep_file: str
     """The sweep file that was run."""
     base: str
@@ -67,6 +69,9 @@ class SweepReport(_Output):
     """Study name → description (one entry "" for a sweep of one study)."""
     selected_studies: list[str] | None
     """The studies the report is restricted to (--study), or null for all."""
+    source: str
+    """Where the rows come from: "case files" (sweep.json and each case's file as they stand
+    now) or "summary.h5" (a summary without its manifest or case files, as last written)."""
     complete: bool
     """Whether every case of the report ran to the end."""
     counts: Counts
@@ -80,10 +85,11 @@ class SweepReport(_Output):
 
 def sweep_summary(folder: str | Path | Sweep, studies: Sequence[str] | None = None) -> dict[str, Any]:
     """The JSON document of ``pound report DIR/ --json`` (``studies``: only those)."""
+    from ..sweep.summary import counts
+
     sweep = select(folder if isinstance(folder, Sweep) else open_sweep(folder), studies)
     rows = sweep.rows
-    complete = sum(r["status"] == "complete" for r in rows)
-    pending = sum(r["status"] == "pending" for r in rows)
+    n = counts(rows)
     return SweepReport(
         folder=str(sweep.folder),
         title=sweep.title,
@@ -92,8 +98,9 @@ def sweep_summary(folder: str | Path | Sweep, studies: Sequence[str] | None = No
         base=str(sweep.attrs.get("base", "")),
         studies=sweep.studies,
         selected_studies=list(studies) if studies else None,
-        complete=complete == len(rows),
-        counts=Counts(cases=len(rows), complete=complete, failed=len(rows) - complete - pending, pending=pending),
+        source=sweep.source,
+        complete=n["complete"] == n["cases"],
+        counts=Counts(**n),
         columns=[SummaryColumn(**c) for c in sweep.columns],
         rows=rows,
     ).model_dump(mode="json")
@@ -110,19 +117,23 @@ def sweep_schema() -> dict[str, Any]:
 
 
 def status_line(doc: dict[str, Any]) -> str | None:
-    """The warning above a sweep's report when some case failed or has not run; else None."""
+    """The warning above a sweep's report when some case failed or has not run, or when the
+    rows come from summary.h5 alone; else None."""
     n = doc["counts"]
-    if doc["complete"]:
-        return None
-    failed = [r for r in doc["rows"] if r["status"].startswith("failed")]
     parts = []
-    if n["failed"]:
-        names = "; ".join(f"{(r['study'] + '/') if r['study'] else ''}{r['case']}: {r['status'].removeprefix('failed: ')}"
-                          for r in failed[:5])  # fmt: skip
-        parts.append(f"{n['failed']} of {n['cases']} cases FAILED ({names}{'; …' if len(failed) > 5 else ''})")
-    if n["pending"]:
-        parts.append(f"{n['pending']} of {n['cases']} cases not run yet (pending)")
-    return "INCOMPLETE SWEEP: " + "; ".join(parts) + ". Their results are missing or partial."
+    if not doc["complete"]:
+        failed = [r for r in doc["rows"] if r["status"].startswith("failed")]
+        parts.append(f"INCOMPLETE SWEEP: {n['cases']} cases: {n['complete']} complete, {n['failed']} failed, "
+                     f"{n['pending']} pending (not run yet)")  # fmt: skip
+        if failed:
+            names = "; ".join(f"{(r['study'] + '/') if r['study'] else ''}{r['case']}: "
+                              f"{r['status'].removeprefix('failed: ')}" for r in failed[:5])  # fmt: skip
+            parts.append(f"FAILED: {names}{'; …' if len(failed) > 5 else ''}")
+        parts.append("Their results are missing or partial; rerun the sweep to complete them")
+    if doc["source"] != FROM_CASE_FILES:
+        parts.append(f"Rows read from {SUMMARY} as the sweep last wrote it: the folder has no {MANIFEST} or no "
+                     "cases/ to read them from")  # fmt: skip
+    return ". ".join(parts) + "." if parts else None
 
 
 def _cell(value: Any, scale: float = 1.0, digits: int = 4) -> str:
@@ -132,11 +143,7 @@ def _cell(value: Any, scale: float = 1.0, digits: int = 4) -> str:
         return "true" if value else "false"
     if isinstance(value, (int, float)):
         return f"{scale * value:.{digits}g}"
-    if isinstance(value, (list, dict)):
-        import json
-
-        return json.dumps(value, ensure_ascii=False)
-    return str(value)
+    return short_value(value)
 
 
 def sweep_tables(doc: dict[str, Any], column: str | None = None) -> list[TableSpec]:
@@ -161,7 +168,7 @@ def sweep_tables(doc: dict[str, Any], column: str | None = None) -> list[TableSp
     headers += [label for label, _, _ in yielding]
     rows = []
     for r in doc["rows"]:
-        row = ([r["study"]] if headers[0] == "study" else []) + [_short(r["case"]), _short(r["status"])]
+        row = ([r["study"]] if headers[0] == "study" else []) + [short_value(r["case"]), short_value(r["status"])]
         row += [_cell(r[p]) for p in params] + [_cell(r["impacts"]), _cell(r["peak_impact_force_N"], 1e-3, 5)]
         for _, names in groups:
             row += [_cell(_largest(r, names[k]), 1e3) for k in range(3)]
@@ -183,10 +190,6 @@ def _yielding_columns(doc: dict[str, Any]) -> list[tuple[str, str, float]]:
         elif name.startswith("peak_isolator_displacement_m["):
             out.append((f"{name[len('peak_isolator_displacement_m['):-1]} isolator |δ| (mm)", name, 1e3))
     return out
-
-
-def _short(status: str) -> str:
-    return status if len(status) <= 40 else status[:39] + "…"
 
 
 def _largest(row: dict[str, Any], names: list[str]) -> float | None:

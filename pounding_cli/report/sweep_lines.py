@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 from .style import colour, figure, grid
-from .sweep_data import Sweep, column_names, numeric_parameters
+from .sweep_data import Sweep, column_names, numeric_parameters, short_value
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -26,6 +26,8 @@ UNITS = {"m": ("mm", 1e3), "rad": ("mrad", 1e3), "N": ("kN", 1e-3)}
 """SI unit → (unit drawn, factor)."""
 COMPONENT_LABELS = ("peak Δx", "peak Δy", "peak Δθ")
 LINESTYLES = ("-", "--", ":", "-.")
+POLAR_TITLE_PAD = 28.0
+"""Points between a polar panel's circle and its title: room for the 90° label."""
 
 
 def default_x(sweep: Sweep, x: str | None) -> str:
@@ -60,10 +62,15 @@ def groups(sweep: Sweep, x: str) -> list[tuple[str, list[dict[str, Any]]]]:
         others = [p for p in sweep.names("parameter")
                   if p != x and len({json.dumps(r[p], sort_keys=True) for r in rows}) > 1]  # fmt: skip
         for r in rows:
-            key = ", ".join(f"{p}={json.dumps(r[p], ensure_ascii=False)}" for p in others)
+            key = ", ".join(f"{p}={_legend_value(r[p])}" for p in others)
             label = f"{study}: {key}" if study and key else study or key
             out.setdefault(label, []).append(r)
     return [(label, sorted(rows, key=lambda r: r[x])) for label, rows in out.items()]
+
+
+def _legend_value(value: Any) -> str:
+    """A parameter value in a legend: numbers and strings as JSON, lists and tables shortened."""
+    return short_value(value) if isinstance(value, (list, dict)) else json.dumps(value, ensure_ascii=False)
 
 
 PRETTY = {"impacts": "impacts", "peak_impact_force_N": "peak impact force", "energy_balance_error": "energy balance error",
@@ -119,6 +126,22 @@ def _legend(fig: Figure, panels: list, lines: list) -> None:
         fig.legend(handles=handles, loc="outside lower center", ncols=min(4, len(handles)), fontsize="small")
 
 
+def _polar_layout(ax: Any, title: str) -> None:
+    """Title and radial ticks of a polar panel that clear each other and the angle labels:
+    the title at a fixed height above the 90° label (left to matplotlib, it moves up after the
+    layout is made and runs into the figure's title), at most four small radial labels along
+    the 22.5° ray, on a white ground over the lines."""
+    from matplotlib.ticker import MaxNLocator
+
+    ax.set_rlim(bottom=0)
+    ax.set_title(title, fontsize="small", y=1.0, pad=POLAR_TITLE_PAD)
+    ax.yaxis.set_major_locator(MaxNLocator(nbins=4, min_n_ticks=2))
+    ax.set_rlabel_position(22.5)
+    ax.tick_params(axis="y", labelsize="x-small")
+    for label in ax.get_yticklabels():
+        label.set_bbox(dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
+
+
 def parameter_figure(
     sweep: Sweep, x: str | None = None, column: str | None = None, ys: Sequence[str] | None = None,
     polar: bool = False,
@@ -132,7 +155,7 @@ def parameter_figure(
     panels = _series(sweep, column, ys)
     n = len(panels)
     if polar:
-        fig = figure(4.2 * n, 4.8)
+        fig = figure(4.2 * n, 5.2)
         axes = [fig.add_subplot(1, n, i + 1, projection="polar") for i in range(n)]
     else:
         fig = figure(8.0, 2.6 * n + 0.8)
@@ -146,8 +169,7 @@ def parameter_figure(
                 ax.plot(np.radians(xs) if polar else xs, values, marker="o", ms=3, lw=1.0, color=colour(i),
                         ls=LINESTYLES[j % len(LINESTYLES)], label=f"{slabel} | {lines[j][0]}")  # fmt: skip
         if polar:
-            ax.set_title(ylabel, fontsize="small")
-            ax.set_rlim(bottom=0)
+            _polar_layout(ax, ylabel)
         else:
             ax.set_ylabel(ylabel)
     if not polar:

@@ -85,7 +85,8 @@ def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
             info.body_a, info.body_b, info.floor_a, row[kernel.EV_T_START], row[kernel.EV_T_END],
             row[kernel.EV_PEAK_FN], row[kernel.EV_IMPULSE], row[kernel.EV_PEAK_AREA], row[kernel.EV_PEAK_DEPTH],
             row[kernel.EV_X], row[kernel.EV_Y], bool(row[kernel.EV_SLID]), info.floor_b, info.elevation,
-            row[kernel.EV_T_PEAK], int(row[kernel.EV_PAIR]),
+            row[kernel.EV_T_PEAK], int(row[kernel.EV_PAIR]), row[kernel.EV_FT_PEAK], row[kernel.EV_NX],
+            row[kernel.EV_NY],
         )  # fmt: skip
     return ContactResult(
         pairs=pairs,

@@ -26,7 +26,7 @@ from .result import (
     YieldingResult,
 )
 
-EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -"
+EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m"
 
 
@@ -108,8 +108,10 @@ def _write_contact(g: h5py.Group, c: ContactResult) -> None:
     events.attrs["units"] = EVENT_UNITS
     events.attrs["description"] = (
         "one row per contact episode; level, floor_b: floors (1-based) of body A's and body B's "
-        "buildings, floor_b 0 for an obstacle; x, y: action point at the peak force (global); "
-        "t_end NaN when the contact lasted to the end"
+        "buildings, floor_b 0 for an obstacle; at the step of the peak normal force (t_peak): x, y the "
+        "action point (global), tangential_force_at_peak the tangential force on body B along t = z x n "
+        "(signed), normal_x, normal_y the unit normal n from A into B (global); t_end NaN when the contact "
+        "lasted to the end"
     )
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS
@@ -156,9 +158,14 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
+    if b.isolated:  # C = Tᵀ(a0·M_s + a1·K_s)T + C_b: on the superstructure's deformation (docs/theory.md §12)
+        modes.attrs["rayleigh_of"] = "superstructure on a fixed base, acting on its deformation"
     g.attrs["isolated"] = b.isolated
     if b.yielding is not None:
-        _write_yielding(g.create_group("yielding"), b.yielding)
+        yielding = g.create_group("yielding")
+        _write_yielding(yielding, b.yielding)
+        for name in ("ductility", "residual_deflection"):  # hard links: one dataset, two names
+            peaks[name] = yielding[name]
 
 
 def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
@@ -174,8 +181,10 @@ def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
     _dataset(g, "force", y.force, "N", description="member shear force", **common)
     _dataset(g, "peak", y.peak, "m, m, m, N, N, N", columns="|dx|, |dy|, |d|, |fx|, |fy|, |f|",
              axes="member local x, y")  # fmt: skip
-    _dataset(g, "ductility", y.ductility, "-", columns="x, y", description="peak |deflection| / yield deflection")
-    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y",
+    rows = "the yielding members, as in yielding/members (also reachable as peaks/<this name>)"
+    _dataset(g, "ductility", y.ductility, "-", columns="x, y", rows=rows,
+             description="peak |deflection| / yield deflection")  # fmt: skip
+    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y", rows=rows,
              description="deflection at rest once the motion has died away elastically from the final state")  # fmt: skip
 
 
@@ -200,9 +209,13 @@ def read_hdf5(path: str | Path) -> RunResult:
 
 def _read_contact(g: h5py.Group) -> ContactResult:
     def table(name: str, dtype: np.dtype) -> np.ndarray:
+        """The table as `dtype`; a float column the file lacks (written before it existed) is NaN."""
         raw = g[name][()]
         out = np.zeros(raw.shape, dtype)
         for field in dtype.names:
+            if field not in raw.dtype.names and dtype[field] == np.float64:
+                out[field] = np.nan
+                continue
             column = raw[field]
             out[field] = [v.decode() for v in column] if dtype[field] == object else column
         return out

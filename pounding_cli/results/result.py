@@ -103,11 +103,17 @@ EVENT_DTYPE = np.dtype(
         ("elevation", np.float64),
         ("t_peak", np.float64),
         ("pair", np.int64),
+        ("tangential_force_at_peak", np.float64),
+        ("normal_x", np.float64),
+        ("normal_y", np.float64),
     ]
 )
 """One row per contact episode. level / floor_b: 1-based floors of body A's and body B's
-buildings (floor_b 0 for an obstacle); t_end NaN if the contact lasted to the end; x, y the
-action point (global, m) at the peak normal force, at time t_peak."""
+buildings (floor_b 0 for an obstacle); t_end NaN if the contact lasted to the end; at the
+step of the peak normal force (time t_peak): x, y the action point (global, m),
+tangential_force_at_peak the tangential force on B along t = ẑ × n (N, signed) and
+normal_x, normal_y the unit normal n from A into B (global). Files written before these
+three columns existed read back with NaN in them."""
 
 PAIR_DTYPE = np.dtype(
     [

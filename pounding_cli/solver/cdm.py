@@ -8,10 +8,12 @@ the classical CDM of Chopra (Table 5.3.1) for M·ü + C·u̇ + K·u = p(t):
     v_{n+½}   = v_{n−½} + Δv_n,     u_{n+1} = u_n + Δt·v_{n+½}
     v_n       = v_{n−½} + Δv_n/2,   a_n = Δv_n/Δt   (central-difference velocity, acceleration)
 
-with p_n = −M·ι·a_g(t_n) and C = a0·M + a1·K per building. (M/Δt + C/2)⁻¹ is dense per
-building and computed once. One storey mat-vec per step, z = K·v_{n+½}, serves both the
-damping force C·v_{n+½} and the update K·u_{n+1} = K·u_n + Δt·z; K·u is recomputed exactly
-at every output step so rounding cannot accumulate.
+with p_n = −M·ι·a_g(t_n) and C = a0·M + a1·K per building (plus, for a base-isolated
+building, the 6×6 links of assembly/damping.py: its Rayleigh damping acts on the
+superstructure's deformation). (M/Δt + C/2)⁻¹ is dense per building and computed once. One
+storey mat-vec per step, z = K·v_{n+½}, serves both the damping force C·v_{n+½} and the update
+K·u_{n+1} = K·u_n + Δt·z; K·u is recomputed exactly at every output step so rounding cannot
+accumulate.
 
 Contact forces (contact.py) are explicit: computed from u_n and v_{n−½}, they join p_n.
 
@@ -104,10 +106,22 @@ def storey_matvec_pair(x, y, storey_k, bottom, top, kx, ky):
 
 
 @kernel
-def damping_force(v, kv, mass, a0, a1, n_dof, out):
-    """out = C·v = a0·M·v + a1·K·v, DOF by DOF, given kv = K·v."""
+def damping_force(v, kv, mass, damping, n_dof, out):
+    """out = C·v = a0·M·v + a1·K·v + Σ links·v, given kv = K·v. damping = (a0, a1 per DOF;
+    link matrices (n, 6, 6), bottom and top floors (n,)): the links are 6×6 blocks on two
+    floors' DOFs (the ground, an extra zero floor, for a bottom) that make an isolated
+    building's C its superstructure's on its deformation (assembly/damping.py); none else."""
+    a0, a1, link, link_bottom, link_top = damping
     for d in range(n_dof):
         out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
+    for k in range(link.shape[0]):
+        b = 3 * link_bottom[k]
+        t = 3 * link_top[k]
+        for r in range(6):
+            acc = 0.0
+            for c in range(3):
+                acc += link[k, r, c] * v[b + c] + link[k, r, c + 3] * v[t + c]
+            out[b + r if r < 3 else t + r - 3] += acc
 
 
 @kernel(fastmath=REASSOCIATE)
@@ -221,7 +235,7 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
 def advance(
     n_start, n_stop, dt, stride, u_limit,
     # structure
-    mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+    mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     # ground
     ground, ground_dt,
     # geometry for peaks
@@ -275,7 +289,7 @@ def advance(
         for d in range(n_dof):
             v_half[d] += dv[d]
         storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
-        damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_next)
+        damping_force(v_half, z, mass, damping, n_dof, cv_next)
         # 7. energy: trapezoidal input, damping and contact work
         p_in = 0.0
         p_damp = 0.0

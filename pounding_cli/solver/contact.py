@@ -19,7 +19,9 @@ overlap vanishes. Points move with the floors' small-rotation kinematics, as eve
 pound: P ↦ P + (u_x − θ·(P_y − G_y), u_y + θ·(P_x − G_x)).
 
 Each contact episode (first step with overlap to first step without) is one row of the
-impact log.
+impact log. At the step of its peak normal force the row keeps, besides F_N, the action
+point, the tangential force F_T on B along t and the normal n: the whole contact force at
+that instant, whatever the output interval.
 """
 
 from __future__ import annotations
@@ -56,9 +58,11 @@ ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT = range(4)
 # per-pair current values (also what is stored at the output interval)
 NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
 NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
-# impact log columns
+# impact log columns; EV_X, EV_Y, EV_T_PEAK, EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A
+# into B) are taken at the step of the episode's peak normal force
 EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
-EV_COLUMNS = 11
+EV_FT_PEAK, EV_NX, EV_NY = range(11, 14)
+EV_COLUMNS = 14
 
 
 @kernel(inline="always")
@@ -255,6 +259,7 @@ def contact_forces(
                 events[row, EV_PAIR] = p
                 events[row, EV_T_START] = t_now
                 events[row, EV_T_END] = np.nan
+                events[row, EV_PEAK_FN] = -1.0  # below any F_N: the first step sets the peak's values
             n_events[0] += 1
         e = int(state[p, ST_EVENT])
         if e < events.shape[0]:
@@ -264,6 +269,9 @@ def contact_forces(
                 events[e, EV_X] = cx
                 events[e, EV_Y] = cy
                 events[e, EV_T_PEAK] = t_now
+                events[e, EV_FT_PEAK] = f_t
+                events[e, EV_NX] = nx
+                events[e, EV_NY] = ny
             if area > events[e, EV_PEAK_AREA]:
                 events[e, EV_PEAK_AREA] = area
             if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:

@@ -55,14 +55,14 @@ CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
 
 
 @kernel
-def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k, bottom, top,
+def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top,
                 ground, ground_dt, g):  # fmt: skip
     """K·u, C·v and the accelerations (absolute and relative) at time t from the state (u, v)
     and the members' plastic correction g. Returns the ground acceleration (X, Y) at t."""
     agx, agy = ground_at(t, ground, ground_dt)
     n_dof = mass.size
     storey_matvec_pair(u, v, storey_k, bottom, top, ku, kv)
-    damping_force(v, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    damping_force(v, kv, mass, damping, n_dof, cv)
     for d in range(n_dof):
         a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
     for d in range(0, n_dof, 3):
@@ -101,7 +101,7 @@ def hybrid_advance(
     # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
     # everything cdm.advance takes after its first five arguments
-    mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+    mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
     u, v_half, ku, cv_half, acc,
     peak_col, peak_rot, peak_disp, peak_acc,
@@ -133,7 +133,7 @@ def hybrid_advance(
             if has_members:  # elastic unless the last substep overshot the yield surface
                 dissipated, yielded = update_members(u, members, plastic, g)
                 acc[ACC_HYSTERETIC] += dissipated
-            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, dof_a0, dof_a1, storey_k,
+            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g)  # fmt: skip
             p_in = 0.0
             p_damp = 0.0
@@ -179,7 +179,7 @@ def hybrid_advance(
                 v_half[d] = v_exact[d] - 0.5 * step * a_rel[d]
                 dv[d] = step * a_rel[d]
             storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
-            damping_force(v_half, z, mass, dof_a0, dof_a1, n_dof, cv_half)
+            damping_force(v_half, z, mass, damping, n_dof, cv_half)
             acc[ACC_FRESH] = 1.0  # t_k is already integrated
             counters[CNT_SWITCHES] += 1
         # CDM through this substep, at the contact step or at the yielding step
@@ -189,7 +189,7 @@ def hybrid_advance(
             step, steps, step_matrix = dt_y, sub_y, binv_y
         last = k * steps + 1 if k == k_end else (k + 1) * steps  # at the end: the state at t_k only
         status, _ = advance(k * steps, last, step, stride_h * steps, u_limit,
-                            mass, dof_a0, dof_a1, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
+                            mass, damping, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
                             peak_col, peak_rot, peak_disp, peak_acc,
@@ -215,7 +215,7 @@ def hybrid_advance(
             if has_members:
                 plastic_correction(members, plastic, g)
                 solve_blocks(kinv, dof_start, dof_count, g, u_static)
-            _leave_cdm((k + 1) * h, step, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1,
+            _leave_cdm((k + 1) * h, step, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping,
                        storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count, ground, ground_dt,
                        acc, cv_next, g)  # fmt: skip
             mode[0] = MODE_EXACT
@@ -224,7 +224,7 @@ def hybrid_advance(
 
 
 @kernel
-def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, dof_a1, storey_k, bottom, top,
+def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping, storey_k, bottom, top,
                binv, dof_start, dof_count, ground, ground_dt, acc, cv, g):  # fmt: skip
     """v_n = v_{n−½} + Δv_n/2 at t_n (no contact force), close the energy account up to t_n."""
     n_dof = mass.size
@@ -238,7 +238,7 @@ def _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, dof_a0, 
     for d in range(n_dof):
         v_exact[d] = v_half[d] + 0.5 * dv[d]
     storey_matvec(v_exact, storey_k, bottom, top, kv)
-    damping_force(v_exact, kv, mass, dof_a0, dof_a1, n_dof, cv)
+    damping_force(v_exact, kv, mass, damping, n_dof, cv)
     p_in = 0.0
     p_damp = 0.0
     for d in range(0, n_dof, 3):

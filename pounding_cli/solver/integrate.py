@@ -38,6 +38,15 @@ class StructureArrays(Protocol):
     column_storey: np.ndarray
     column_plan: np.ndarray
     members: "MemberData"
+    damping_links: "DampingLinkData"
+
+
+class DampingLinkData(Protocol):
+    """6×6 damping blocks added to a0·M + a1·K (see pounding_cli.assembly.system.DampingLinkArrays)."""
+
+    matrix: np.ndarray
+    bottom: np.ndarray
+    top: np.ndarray
 
 
 class MemberData(Protocol):
@@ -100,6 +109,23 @@ class NoMembers:
             setattr(self, name, np.zeros((0, 2)))
 
 
+class NoDampingLinks:
+    """No base-isolated building: C = a0·M + a1·K."""
+
+    def __init__(self) -> None:
+        self.matrix = np.zeros((0, 6, 6))
+        self.bottom = np.zeros(0, dtype=np.int64)
+        self.top = np.zeros(0, dtype=np.int64)
+
+
+def damping_arrays(structure: StructureArrays) -> tuple:
+    """The damping tuple of the compiled loop (cdm.damping_force): a0, a1 per DOF, the link
+    matrices and their floors, bottoms on the ground mapped to the extra zero floor."""
+    links = getattr(structure, "damping_links", None) or NoDampingLinks()
+    bottom = np.where(links.bottom < 0, structure.mass.size // 3, links.bottom).astype(np.int64)
+    return structure.dof_a0, structure.dof_a1, np.ascontiguousarray(links.matrix, dtype=float), bottom, links.top
+
+
 MAX_EVENTS = 200_000
 """Contact episodes logged at most; more are counted but not stored."""
 
@@ -153,10 +179,17 @@ def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
 
 
 def damping_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
-    """C·x = a0·M·x + a1·K·x for a vector of n_dof + 3 entries (the ground entries stay 0)."""
+    """C·x = a0·M·x + a1·K·x + Σ links·x for a vector of n_dof + 3 entries (the ground entries
+    stay 0), with numpy, as cdm.damping_force computes it."""
     n = structure.mass.size
     out = np.zeros_like(x)
     out[:n] = structure.dof_a0 * structure.mass * x[:n] + structure.dof_a1 * stiffness_times(structure, x)[:n]
+    _, _, link, bottom, top = damping_arrays(structure)
+    if link.shape[0]:
+        dofs = np.array([0, 1, 2])
+        index = np.hstack([3 * bottom[:, None] + dofs, 3 * top[:, None] + dofs])
+        np.add.at(out, index, np.einsum("sij,sj->si", link, x[index]))
+        out[n:] = 0.0
     return out
 
 
@@ -167,8 +200,9 @@ def building_dofs(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
     return starts, counts
 
 
-def stiffness_blocks(structure: StructureArrays) -> list[np.ndarray]:
-    """Dense K of every building, column by column from the solver's own storey kernel."""
+def stiffness_blocks(structure: StructureArrays, times: Callable = stiffness_times) -> list[np.ndarray]:
+    """Dense K of every building, column by column from the solver's own storey kernel (or
+    the dense matrix of another operator `times`, e.g. damping_times)."""
     starts, counts = building_dofs(structure)
     x = np.zeros(structure.mass.size + 3)
     blocks = []
@@ -177,9 +211,14 @@ def stiffness_blocks(structure: StructureArrays) -> list[np.ndarray]:
         for j in range(n):
             x[:] = 0.0
             x[d0 + j] = 1.0
-            k[:, j] = stiffness_times(structure, x)[d0 : d0 + n]
+            k[:, j] = times(structure, x)[d0 : d0 + n]
         blocks.append(k)
     return blocks
+
+
+def damping_blocks(structure: StructureArrays) -> list[np.ndarray]:
+    """Dense C of every building, column by column, as the time loop applies it."""
+    return stiffness_blocks(structure, damping_times)
 
 
 def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -187,9 +226,8 @@ def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np
     starts, counts = building_dofs(structure)
     n_max = int(counts.max())
     binv = np.zeros((starts.size, n_max, n_max))
-    for b, (d0, n, k) in enumerate(zip(starts, counts, stiffness_blocks(structure))):
+    for b, (d0, n, c) in enumerate(zip(starts, counts, damping_blocks(structure))):
         m = structure.mass[d0 : d0 + n]
-        c = np.diag(structure.dof_a0[d0 : d0 + n] * m) + structure.dof_a1[d0] * k
         binv[b, :n, :n] = np.linalg.inv(np.diag(m / dt) + c / 2)
     return binv, starts, counts
 
@@ -301,7 +339,7 @@ def simulate(
     cbuf = contact_kernel.buffers(int(c.body_poly.shape[1]))
     broad = sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, sweep)
     cdm_args = (
-        structure.mass, structure.dof_a0, structure.dof_a1, structure.storey_k, bottom,
+        structure.mass, damping_arrays(structure), structure.storey_k, bottom,
         structure.storey_top, binv, starts, counts,
         ground, ground_dt,
         structure.storey_axes, centre, structure.column_storey, col_arm,
@@ -316,7 +354,7 @@ def simulate(
             raise ValueError("n_steps and stride must be multiples of substep")
         h = substep * dt
         blocks = stiffness_blocks(structure)
-        phi, g0, g1 = building_propagators(blocks, structure.mass, structure.dof_a0, structure.dof_a1, starts, counts, h)
+        phi, g0, g1 = building_propagators(blocks, damping_blocks(structure), structure.mass, starts, counts, h)
         kinv = inverse_blocks(blocks, counts) if n_members else kinv
         sub_y = yield_substep if 0 < yield_substep < substep else substep
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv

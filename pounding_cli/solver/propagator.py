@@ -18,12 +18,13 @@ from .expm import expm
 
 
 def building_propagators(
-    stiffness_blocks: list[np.ndarray], mass: np.ndarray, a0: np.ndarray, a1: np.ndarray, starts, counts, h: float
+    stiffness_blocks: list[np.ndarray], damping_blocks: list[np.ndarray], mass: np.ndarray, starts, counts, h: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(Φ, Γ₀, Γ₁) of every building over a step h, padded to (n_b, 2·n_max, ·).
 
-    stiffness_blocks[b] is building b's dense K; mass its diagonal of M; a0, a1 its Rayleigh
-    coefficients per DOF; starts, counts its DOF ranges. Rows/columns 0…n−1 of Φ are u, n…2n−1 v.
+    stiffness_blocks[b] and damping_blocks[b] are building b's dense K and C; mass the
+    diagonal of M; starts, counts the buildings' DOF ranges. Rows/columns 0…n−1 of Φ are u,
+    n…2n−1 v.
     """
     n_max = int(max(counts))
     phi = np.zeros((len(counts), 2 * n_max, 2 * n_max))
@@ -32,7 +33,7 @@ def building_propagators(
     for b, (d0, n) in enumerate(zip(starts, counts)):
         m = mass[d0 : d0 + n]
         k = stiffness_blocks[b]
-        c = np.diag(a0[d0 : d0 + n] * m) + a1[d0] * k
+        c = damping_blocks[b]
         a = np.zeros((2 * n, 2 * n))
         a[:n, n:] = np.eye(n)
         a[n:, :n] = -k / m[:, None]

@@ -9,8 +9,9 @@ A summary has one row per case and these columns, in this order (docs/sweep.md, 
 - per building B: ``peak_isd_x_m[B]``, ``peak_isd_y_m[B]``, ``peak_isd_theta_rad[B]``, the
   largest peak interstorey deflection over its columns and storeys, per direction;
 - per building B with yielding members (in some case): ``max_ductility[B]``, the largest peak
-  ductility over its inelastic columns, either local axis (only if it has inelastic columns),
-  and ``peak_isolator_displacement_m[B]``, the largest peak resultant displacement of its
+  ductility over its inelastic columns, either local axis, and
+  ``max_residual_deflection_m[B]``, the largest resultant residual deflection over them
+  (both only if it has inelastic columns), and ``peak_isolator_displacement_m[B]``, the largest peak resultant displacement of its
   isolators (only if it is base-isolated); NaN/null in a case where it has none;
 - per column C of building B named in ``[summary] columns``, per storey s (1 = ground
   storey): ``peak_isd_x_m[B/C/s]``, ``peak_isd_y_m[B/C/s]``, ``peak_isd_theta_rad[B/C/s]``.
@@ -80,12 +81,17 @@ def building_columns(building: str) -> list[Column]:
 
 def yielding_columns(building: str, columns: bool, isolated: bool) -> list[Column]:
     """The yielding-member columns of one building: with inelastic `columns`, its largest peak
-    ductility; if `isolated`, its largest peak isolator displacement."""
+    ductility and largest residual deflection; if `isolated`, its largest peak isolator
+    displacement."""
     out = []
     if columns:
         out.append(Column(f"max_ductility[{building}]", "result", "float", "-",
                           f"Largest peak ductility |δ|/δ_y over the inelastic columns of building {building} and "
                           "both their local axes (below 1: none yielded; NaN in a case where it has none)."))  # fmt: skip
+        out.append(Column(f"max_residual_deflection_m[{building}]", "result", "float", "m",
+                          f"Largest residual deflection over the inelastic columns of building {building}: the "
+                          "resultant √(δ_x² + δ_y²) of a column's deflection at rest after the run (NaN in a case "
+                          "where it has none)."))  # fmt: skip
     if isolated:
         out.append(Column(f"peak_isolator_displacement_m[{building}]", "result", "float", "m",
                           f"Largest peak resultant isolator displacement of building {building} "
@@ -146,6 +152,9 @@ def row_schema() -> dict[str, Any]:
         "^max_ductility\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
             "Largest peak ductility over the inelastic columns of the building named in brackets, either local "
             "axis; null where it has none."},
+        "^max_residual_deflection_m\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
+            "Largest resultant residual deflection over the inelastic columns of the building named in brackets, "
+            "m; null where it has none."},
         "^peak_isolator_displacement_m\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
             "Largest peak resultant isolator displacement of the building named in brackets, m; null where it "
             "is not isolated."},

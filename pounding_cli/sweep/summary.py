@@ -59,6 +59,8 @@ def case_results(path: Path) -> dict[str, Any]:
                 isolators = np.array([k == "isolator" for k in kinds], dtype=bool)
                 if columns.any():
                     out[f"max_ductility[{name}]"] = _nanmax(group["yielding/ductility"][()][columns])
+                    residual = group["yielding/residual_deflection"][()][columns]
+                    out[f"max_residual_deflection_m[{name}]"] = _nanmax(np.hypot(residual[:, 0], residual[:, 1]))
                 if isolators.any():
                     out[f"peak_isolator_displacement_m[{name}]"] = _nanmax(group["yielding/peak"][()][isolators, 2])
     return out

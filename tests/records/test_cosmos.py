@@ -163,7 +163,9 @@ def test_ridgecrest_from_open_file_and_bytesio():
     with open(RAW, "rb") as handle:
         from_file = obspy.read(handle)
     from_bytes = obspy.read(io.BytesIO(RAW.read_bytes()))
-    for a, b, c in zip(reference, from_file, from_bytes):
+    assert len(reference) == len(from_file) == len(from_bytes) == 3  # the three channels, each way
+    for a, b, c in zip(reference, from_file, from_bytes, strict=True):
+        assert b.stats == a.stats and c.stats == a.stats
         np.testing.assert_array_equal(b.data, a.data)
         np.testing.assert_array_equal(c.data, a.data)
 

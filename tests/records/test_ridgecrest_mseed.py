@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 
 from pounding_cli.records import UNIT_FACTORS, read_accelerogram
+from pounding_cli.records.metrics import metrics
 
 REPO = Path(__file__).resolve().parents[2]
 SHIPPED = REPO / "inputs" / "records" / "ridgecrest2019_ccc.mseed"
@@ -54,18 +56,40 @@ def test_shipped_file_is_small():
     assert SHIPPED.stat().st_size < 1_000_000
 
 
+@pytest.mark.parametrize("channel, arias, d5_95", [("HNE", "2.251", "10.12"), ("HNN", "3.230", "11.03")])
+def test_readmes_quote_what_pound_record_gives(channel, arias, d5_95):
+    """The Arias intensity (m/s) and D5-95 (s) of the shipped file in both READMEs are pound's
+    own measures (pounding_cli.records.metrics), at the precision quoted."""
+    m = metrics(read_accelerogram(SHIPPED, trace=channel).acceleration, 0.01)
+    assert (f"{m.arias_intensity:.3f}", f"{m.significant_duration:.2f}") == (arias, d5_95)
+    inputs_readme = " ".join((REPO / "inputs" / "records" / "README.md").read_text(encoding="utf-8").split())
+    assert f"{channel} {arias} m/s, {d5_95} s" in inputs_readme
+    table = (REPO / "docs" / "records" / "README.md").read_text(encoding="utf-8")
+    assert f"| {arias} | {d5_95} |" in table
+
+
 @needs_raw
 def test_script_reproduces_shipped_file(tmp_path):
+    """Rerun, the script writes the shipped file sample for sample, and prints the figures its
+    README quotes (window, Arias intensity and D5-95 before and after windowing)."""
     import obspy
 
     output = tmp_path / "rerun.mseed"
-    subprocess.run([sys.executable, str(SCRIPT), "--source", str(RAW), "--output", str(output)],
-                   check=True, capture_output=True)
+    run = subprocess.run([sys.executable, str(SCRIPT), "--source", str(RAW), "--output", str(output)],
+                         check=True, capture_output=True, text=True)
     rerun, shipped = obspy.read(str(output)), obspy.read(str(SHIPPED))
     assert len(rerun) == len(shipped) == 2
-    for new, old in zip(rerun, shipped):
+    for new, old in zip(rerun, shipped, strict=True):
         assert new.stats == old.stats
         assert np.array_equal(new.data, old.data)
+    readme = " ".join((REPO / "inputs" / "records" / "README.md").read_text(encoding="utf-8").split())
+    printed = re.findall(r"D5-95 (\d+\.\d\d) s \((\d+\.\d\d-\d+\.\d\d) s[^)]*\), Arias intensity (\d\.\d{3}) m/s", run.stdout)
+    assert len(printed) == 4, run.stdout  # two channels, full record and shipped window
+    for channel, ((d_full, span_full, ia_full), (d_win, span_win, ia_win)) in zip(
+        ("HNE", "HNN"), zip(printed[0::2], printed[1::2], strict=True), strict=True
+    ):
+        assert f"{channel} {ia_full} m/s, {d_full} s ({span_full} s after the first raw sample)" in readme
+        assert f"{channel} {ia_win} m/s, {d_win} s ({span_win} s into the file)" in readme
 
 
 @needs_raw
