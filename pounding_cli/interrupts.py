@@ -2,14 +2,16 @@
 
 Python delivers a signal by running its handler between bytecodes of the main thread; a
 KeyboardInterrupt raised there can land inside a finaliser or weakref callback, where the
-interpreter prints "Exception ignored" and carries on. So the handler also records the
-request, and the loops that must stop (the time loop's chunks, a sweep's cases) call
-:func:`stop_if_requested` where stopping is safe.
+interpreter would print "Exception ignored … Traceback" and carry on. So the handler also
+records the request, the loops that must stop (the time loop's chunks, a sweep's cases) call
+:func:`stop_if_requested` where stopping is safe, and within the block such a swallowed
+interrupt is not printed (sys.unraisablehook): the request it carried is kept.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 
 _requested = False
@@ -38,6 +40,8 @@ class terminate_as_interrupt:
             _depth += 1
             for sig in (signal.SIGTERM, signal.SIGINT):
                 self.previous[sig] = signal.signal(sig, _interrupt)
+            self.hook = sys.unraisablehook
+            sys.unraisablehook = _quiet_about_interrupts(self.hook)
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -45,9 +49,21 @@ class terminate_as_interrupt:
         if self.previous:
             for sig, handler in self.previous.items():
                 signal.signal(sig, handler)
+            sys.unraisablehook = self.hook
             _depth -= 1
             if _depth == 0:
                 _requested = False
+
+
+def _quiet_about_interrupts(hook):  # type: ignore[no-untyped-def]
+    """An unraisable-exception hook that passes over our Interrupted (recorded in _requested,
+    raised again by stop_if_requested) and hands anything else to `hook`."""
+
+    def quiet(unraisable) -> None:  # type: ignore[no-untyped-def]
+        if not isinstance(unraisable.exc_value, Interrupted):
+            hook(unraisable)
+
+    return quiet
 
 
 def _interrupt(signum: int, frame: object) -> None:

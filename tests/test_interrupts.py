@@ -126,3 +126,40 @@ def test_a_handled_interrupt_inside_generated_code_still_exits_1(tmp_path):
     done = subprocess.run([sys.executable, "-m", "interrupt_in_exec"], cwd=tmp_path, capture_output=True, timeout=60)
     assert done.stdout == b"handled\n", done.stderr
     assert done.returncode == 1
+
+
+def test_an_interrupt_swallowed_by_a_weakref_callback_is_not_printed_but_kept(monkeypatch):
+    """A signal's KeyboardInterrupt that lands in a weakref callback is 'unraisable': CPython
+    hands it to sys.unraisablehook, which prints "Exception ignored … Traceback" on stderr,
+    and goes on. Within terminate_as_interrupt our interrupt is not passed on to the hook,
+    and the request survives for the next stop_if_requested; any other unraisable exception
+    still reaches the hook, and the hook is restored on leaving."""
+    import gc
+    import weakref
+
+    from pounding_cli.interrupts import Interrupted, _interrupt, stop_if_requested, terminate_as_interrupt
+
+    seen = []
+    hook = seen.append
+    monkeypatch.setattr(sys, "unraisablehook", hook)
+
+    class Thing:
+        pass
+
+    def raise_in_callback(_):
+        _interrupt(signal.SIGINT, None)  # as if the signal arrived while the callback ran
+
+    def fail_in_callback(_):
+        raise ValueError("a real bug")
+
+    with terminate_as_interrupt():
+        for callback in (raise_in_callback, fail_in_callback):
+            thing = Thing()
+            ref = weakref.ref(thing, callback)
+            del thing
+            gc.collect()
+            assert ref() is None
+        assert [type(u.exc_value) for u in seen] == [ValueError]
+        with pytest.raises(Interrupted):
+            stop_if_requested()
+    assert sys.unraisablehook is hook
