@@ -115,22 +115,21 @@ def test_frictionless_oblique_impact_without_spin_keeps_kinetic_energy():
     assert np.abs(r.energy[:, 6]).max() < 1e-3 * e_k[0], "energy balance"
 
 
-def test_spinning_corner_impact_energy_change_is_the_models_not_the_integrators():
-    """With rotation free, the contact forces are not the gradient of a potential: the kernel
-    moves the outlines by the small-rotation map P + θ·ẑ × (P − G), not rigidly
-    (tests/test_contact_work.py shows the gain is that map's, docs/theory.md §10). In this
-    30° corner impact the slabs leave with 2.2 % more kinetic energy. The change is the
-    model's: it does not depend on Δt (to 1e-5 between Δt and Δt/4), and the energy balance,
-    which counts the contact forces' work, closes."""
-    gains = []
+def test_frictionless_spinning_corner_impact_keeps_kinetic_energy():
+    """With rotation free (the slabs turn by up to 0.03 rad each while in contact), without
+    friction or dashpots, the slabs leave with the kinetic energy they brought: the issue asks
+    0.1 %; the kernel moves the outlines rigidly, so the overlap-area force at the centroid is
+    conservative for this corner-into-face contact (tests/test_contact_work.py, theory §10),
+    and what remains is the CDM's error, which falls with Δt (measured 1.4e-11 at 2e-5 s,
+    1.2e-13 at 5e-6 s); 1e-8 leaves room for rounding. The energy balance closes to 1e-6."""
     for dt in (2e-5, 5e-6):
         structure, contact, velocity = _oblique(0.0, 0.0)
         r = run(structure, contact, velocity, duration=0.25, dt=dt, stride=int(round(2e-4 / dt)))
+        assert r.events.shape[0] == 1 and np.isfinite(r.events[0, kernel.EV_T_END])
         e_k = r.energy[:, 1]
-        gains.append(e_k[-1] / e_k[0] - 1.0)
+        assert abs(e_k[-1] / e_k[0] - 1.0) < 1e-8, dt
         assert np.abs(r.energy[:, 6]).max() < 1e-6 * e_k[0], "energy balance"
-    assert abs(gains[0] - gains[1]) < 1e-5
-    assert 0.015 < gains[0] < 0.03
+        assert np.abs(r.displacement.reshape(-1, 2, 3)[:, :, 2]).max() > 0.01, "the slabs turn"
 
 
 def test_corner_first_impact_turns_the_slab_the_right_way():
@@ -226,9 +225,8 @@ def test_impact_log_keeps_the_contact_force_at_the_peak():
         assert event[kernel.EV_PEAK_FN] == f_n and event[kernel.EV_FT_PEAK] == f_t
         assert abs(f_t) <= mu_s * f_n
         u = r.displacement[k].reshape(2, 3)
-        moved = [p + np.column_stack([u[i, 0] - u[i, 2] * (p[:, 1] - centres[i, 1]),
-                                      u[i, 1] + u[i, 2] * (p[:, 0] - centres[i, 0])])
-                 for i, p in enumerate(slabs)]  # fmt: skip
+        turn = [np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]]) for t in u[:, 2]]
+        moved = [centres[i] + u[i, :2] + (p - centres[i]) @ turn[i].T for i, p in enumerate(slabs)]  # rigidly
         assert_allclose([event[kernel.EV_NX], event[kernel.EV_NY]], contact_normal(*moved), atol=1e-9)
     peak = r.events[np.argmax(r.events[:, kernel.EV_PEAK_FN])]
     assert r.events[0, kernel.EV_SLID] == 1.0 and abs(peak[kernel.EV_FT_PEAK]) > 0.05 * peak[kernel.EV_PEAK_FN], \

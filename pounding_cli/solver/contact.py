@@ -15,8 +15,12 @@ B, tangent t = ẑ × n); then the impact law acting at c:
 
 The force on B is F_N·n + F_T·t, on A its opposite; on a floor it becomes (F_x, F_y, r × F)
 with r = c − G (G the floor's displaced mass centre). The tangential state resets when the
-overlap vanishes. Points move with the floors' small-rotation kinematics, as everywhere in
-pound: P ↦ P + (u_x − θ·(P_y − G_y), u_y + θ·(P_x − G_x)).
+overlap vanishes. Outlines move rigidly, P ↦ G + u + R(θ)·(P − G): the moment (c − G) × F
+and the contact velocities v + θ̇·ẑ × (c − G) are then the work-conjugate forces and
+velocities of that motion, so that a corner pushed into a face stores and gives back energy
+at any turn (docs/theory.md §10). (The small-rotation map P + u + θ·ẑ × (P − G), used for the
+structure, turns and stretches by √(1 + θ²): on the outlines it made turned contacts gain
+energy.)
 
 Each contact episode (first step with overlap to first step without) is one row of the
 impact log. At the step of its peak normal force the row keeps, besides F_N, the action
@@ -67,7 +71,8 @@ EV_COLUMNS = 14
 
 @kernel(inline="always")
 def _deform(body, u, body_poly, body_nv, body_floor, body_centre, out):
-    """Write body's displaced outline into out; returns its displaced reference point."""
+    """Write body's displaced outline into out, turned rigidly by θ about its mass centre;
+    returns its displaced reference point."""
     f = body_floor[body]
     gx = body_centre[body, 0]
     gy = body_centre[body, 1]
@@ -78,12 +83,13 @@ def _deform(body, u, body_poly, body_nv, body_floor, body_centre, out):
         return gx, gy
     ux = u[3 * f]
     uy = u[3 * f + 1]
-    th = u[3 * f + 2]
+    c = np.cos(u[3 * f + 2])
+    s = np.sin(u[3 * f + 2])
     for k in range(body_nv[body]):
-        px = body_poly[body, k, 0]
-        py = body_poly[body, k, 1]
-        out[k, 0] = px + ux - th * (py - gy)
-        out[k, 1] = py + uy + th * (px - gx)
+        dx = body_poly[body, k, 0] - gx
+        dy = body_poly[body, k, 1] - gy
+        out[k, 0] = gx + ux + c * dx - s * dy
+        out[k, 1] = gy + uy + s * dx + c * dy
     return gx + ux, gy + uy
 
 
