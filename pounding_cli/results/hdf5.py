@@ -1,20 +1,20 @@
 """Writing and reading the HDF5 result file (the layout is a contract:
 docs/user-guide.md, "HDF5 layout").
 
-Files are written beside their final name and renamed into place only when complete, so a
-file with the final name is never half-written.
+Files are written beside their final name and renamed into place only when complete
+(:mod:`pounding_cli.atomic`), so a file with the final name is never half-written.
 """
 
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
 
+from ..atomic import atomic_path
 from .result import (
     ENERGY_NAMES,
     EVENT_DTYPE,
@@ -70,14 +70,9 @@ def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, **attrs
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    with atomic_path(path) as tmp:
         with h5py.File(tmp, "w", track_order=True) as f:
             _write(f, result)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     result.output = path
     return path
 
