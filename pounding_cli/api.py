@@ -31,7 +31,7 @@ from .assembly import (
     ground_motion,
     time_grid,
 )
-from .errors import InputError
+from .errors import AnalysisFailed, InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
@@ -284,5 +284,21 @@ def execute(
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     if output is not None:
-        write_hdf5(result, output)
+        write_results(result, Path(output))
     return result
+
+
+def write_results(result: RunResult, output: Path) -> None:
+    """Write a run's HDF5 file. A file that cannot be written (disk full, no permission, the
+    folder gone) is an InputError, exit 2: nothing is written, so there are no partial results
+    to mark (exit 1 promises them). Interrupted while writing: AnalysisFailed, exit 1."""
+    try:
+        write_hdf5(result, output)
+    except InputError as exc:
+        raise InputError(
+            f"{exc.message}; the analysis ran ({result.status}) but its results were not written: make room or "
+            "give another output file, and run again",
+            file=exc.file,
+        ) from None
+    except KeyboardInterrupt:
+        raise AnalysisFailed(f"{output}: interrupted while writing the results; nothing was written") from None

@@ -5,6 +5,7 @@ that name untouched; an OSError while writing is an InputError naming the final 
 from __future__ import annotations
 
 import errno
+import json
 import os
 import re
 import stat
@@ -196,3 +197,65 @@ def test_every_file_pound_writes_goes_through_the_atomic_writer():
             if not any(name == where and text in line for where, text in NOT_OUTPUTS):
                 found.append(f"{name}:{number}: {line.strip()}")
     assert found == [], "writes a file in place, not through pounding_cli.atomic:\n" + "\n".join(found)
+
+
+# --- late write failures: the run completed, its file cannot be written ----------------------------
+
+
+def test_a_folder_that_vanishes_during_the_run_is_exit_2_naming_the_path(tmp_path):
+    """A real late failure: the output folder is replaced by a regular file while the time loop
+    runs (after the up-front checks passed), so the HDF5 file cannot be created."""
+    import shutil
+
+    folder = tmp_path / "results"
+    output = folder / "out.h5"
+    doc = example_doc()
+    doc["analysis"]["duration"] = 0.5
+
+    def replace_the_folder(done, total):
+        if folder.is_dir():
+            shutil.rmtree(folder)
+            folder.write_text("now a regular file")
+
+    with pytest.raises(InputError) as caught:
+        pound.run_model(load_doc(doc), output=output, progress=replace_the_folder)
+    assert caught.value.exit_code == 2
+    assert str(caught.value) == (
+        f"{output}: cannot write the file (Not a directory); the analysis ran (complete) but its results were not "
+        "written: make room or give another output file, and run again"
+    )
+    assert _folder_listing(tmp_path) == ["results"] and folder.read_text() == "now a regular file"
+
+
+def test_disk_full_while_writing_is_exit_2_with_the_path_and_nothing_written(tmp_path, monkeypatch):
+    """`pound run` whose HDF5 writing fails midway as h5py reports a full disk (an OSError
+    whose text carries errno 28): exit 2, one line naming the output, no traceback, no file."""
+    from typer.testing import CliRunner
+
+    from pounding_cli.cli import app
+
+    doc = example_doc()
+    doc["analysis"]["duration"] = 0.5
+    model = tmp_path / "model.json"
+    model.write_text(json.dumps(doc))
+    (tmp_path / "records").symlink_to(ROOT / "inputs" / "records")
+    written = []
+    create = h5py.Group.create_dataset
+
+    def filling_up(self, name, *args, **kwargs):
+        if len(written) == 5:
+            raise OSError(f"Can't write data (file write failed: time = Mon Jan  1 00:00:00 2024, filename = "
+                          f"'{self.file.filename}', file descriptor = 5, errno = 28, error message = 'No space left "
+                          "on device', buf = 0x1, total write size = 8, bytes this sub-write = 8, bytes actually "
+                          "written = 18446744073709551615, offset = 0)")  # fmt: skip
+        written.append(name)
+        return create(self, name, *args, **kwargs)
+
+    monkeypatch.setattr(h5py.Group, "create_dataset", filling_up)
+    out = tmp_path / "results" / "out.h5"
+    result = CliRunner().invoke(app, ["run", str(model), "-o", str(out), "--no-progress"])
+    assert result.exit_code == 2, result.output
+    assert result.stderr == (f"{out}: cannot write the file (No space left on device); the analysis ran (complete) "
+                             "but its results were not written: make room or give another output file, and run "
+                             "again\n")  # fmt: skip
+    assert _folder_listing(out.parent) == []
