@@ -60,12 +60,15 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     loaded = _loaded(model)
     for b, building in enumerate(loaded.model.buildings):
         limits.check_storeys(sum(f.repeat for f in building.floors), loaded.source, f"buildings[{b}].floors")
-    system = assemble(loaded)
-    contact = contact_arrays(loaded, system.buildings)
-    ground = ground_motion(loaded)
-    grid = time_grid(
-        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt
-    )
+    # extreme inputs (a length of 1e300 m) overflow on the way; what comes out is checked
+    # (periods, time step, record) and refused with a message, so numpy need not warn
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        system = assemble(loaded)
+        contact = contact_arrays(loaded, system.buildings)
+        ground = ground_motion(loaded)
+        grid = time_grid(
+            loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt
+        )
     scene = Scene(loaded, system, contact, ground, grid)
     limits.check_run(resource_run(scene), resource_size(scene), loaded.source)
     return scene
