@@ -8,6 +8,8 @@ Files are written beside their final name and renamed into place only when compl
 from __future__ import annotations
 
 import json
+import os
+import time
 from pathlib import Path
 from typing import Any
 
@@ -91,11 +93,23 @@ def _write(f: h5py.File, r: RunResult) -> None:
     buildings = f.create_group("buildings", track_order=True)
     for name, b in r.buildings.items():
         _write_building(buildings.create_group(name), b)
+    _pause_for_tests()
     _write_contact(f.create_group("impacts"), r.contact)
     _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
     diag = f.create_group("diagnostics")
     for key, value in r.diagnostics.items():
         diag.attrs[key] = value
+
+
+def _pause_for_tests() -> None:
+    """For tests/test_interrupts.py only: with POUND_TEST_PAUSE_WRITING="<marker>:<seconds>",
+    touch the marker once the file is half-written, then wait, so that a test can kill the
+    process while the file is being written, at a known moment. Without it, nothing."""
+    spec = os.environ.get("POUND_TEST_PAUSE_WRITING")
+    if spec:
+        marker, _, seconds = spec.rpartition(":")
+        Path(marker).touch()
+        time.sleep(float(seconds))
 
 
 def _write_contact(g: h5py.Group, c: ContactResult) -> None:
