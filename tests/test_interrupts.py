@@ -74,9 +74,13 @@ def _start(tmp_path, out, pause_writing: float = 0.0, extra=()):
 
 
 def _phase(tmp_path, out, code) -> str:
-    """How far the run had got when the signal arrived, from its markers."""
-    if out.exists() and (code == 0 or _check_final_file(out) == "complete"):
+    """How far the run had got when the signal arrived, from its file and markers (a run
+    stopped in the time loop goes on to write its partial results, touching "writing")."""
+    status = _check_final_file(out)
+    if status == "complete":
         return "done"
+    if status == "failed: interrupted":
+        return "time loop"
     if (tmp_path / "writing").exists():
         return "writing"
     return "time loop" if (tmp_path / "looping").exists() else "starting"
