@@ -70,7 +70,8 @@ def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, **attrs
 
 
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
-    """Write a run's results to `path` atomically; returns the path."""
+    """Write a run's results to `path` atomically; returns the path. A file that cannot be
+    written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
     with atomic_path(path) as tmp:
         with h5py.File(tmp, "w", track_order=True) as f:
