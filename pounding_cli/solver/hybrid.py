@@ -24,6 +24,7 @@ import numpy as np
 from .cdm import (
     ACC_FRESH,
     ACC_HYSTERETIC,
+    STATUS_DIVERGED,
     STATUS_OK,
     accumulate_energy,
     advance,
@@ -43,8 +44,10 @@ from .jit import REASSOCIATE, kernel
 MODE_EXACT, MODE_CDM = 0, 1
 ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
 LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
-# counters
-CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
+# counters: exact substeps, CDM steps, hand-overs, and the step (in CDM steps) whose state
+# failed the divergence check (−1 while none has)
+CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP = range(4)
+N_COUNTERS = 4
 
 
 @kernel
@@ -103,7 +106,9 @@ def hybrid_advance(
     geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
     members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
-    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
+    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done). A
+    displacement that passes u_limit or is not finite stops the run at the substep (or the CDM
+    step) that made it: STATUS_DIVERGED, with that step (in CDM steps) in counters[CNT_FAILED_STEP].
 
     Yielding members: exact propagation holds while they are elastic, about the static
     offset u_static = K⁻¹·g of their plastic deflections (M·ẅ + C·ẇ + K·w = p for
@@ -141,6 +146,7 @@ def hybrid_advance(
                                       out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit,
                                       e_plastic)  # fmt: skip
                 if status != STATUS_OK:
+                    counters[CNT_FAILED_STEP] = k * sub
                     return status, k
             if not (
                 (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry, params,
@@ -156,6 +162,12 @@ def hybrid_advance(
                     for d in range(n_dof):
                         u[d] += u_static[d]
                 counters[CNT_EXACT] += 1
+                # a bad value stops the run at the substep that made it (a non-finite velocity
+                # makes the displacement non-finite within the same substep: propagate mixes them)
+                for d in range(n_dof):
+                    if not abs(u[d]) <= u_limit:
+                        counters[CNT_FAILED_STEP] = (k + 1) * sub
+                        return STATUS_DIVERGED, k + 1
                 continue
             # a contact may begin soon: hand the state to the CDM at t_k
             for d in range(n_dof):
@@ -167,7 +179,7 @@ def hybrid_advance(
             mode[0] = MODE_CDM
             counters[CNT_SWITCHES] += 1
         # CDM through this substep
-        status, _ = advance(k * sub, (k + 1) * sub, dt, stride_h * sub, u_limit,
+        status, failed_at = advance(k * sub, (k + 1) * sub, dt, stride_h * sub, u_limit,
                             mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
@@ -178,6 +190,7 @@ def hybrid_advance(
                             members, plastic, g, out_member, peak_member)  # fmt: skip
         counters[CNT_CDM] += sub
         if status != STATUS_OK:
+            counters[CNT_FAILED_STEP] = failed_at
             return status, k
         for d in range(n_dof):
             a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
