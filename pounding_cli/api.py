@@ -19,7 +19,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import __version__
+from . import __version__, limits
 from .assembly import (
     ContactArrays,
     GroundMotion,
@@ -32,28 +32,13 @@ from .assembly import (
 )
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
-from .errors import InputError
+from .errors import AnalysisFailed, InputError
 from .interrupts import terminate_as_interrupt
 from .model import LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
 
 G = 9.80665
-def _limit(name: str, default: float) -> float:
-    """A resource limit, overridable by the environment variable POUND_<NAME>."""
-    try:
-        return float(os.environ.get(f"POUND_{name}", default))
-    except ValueError:
-        return default
-
-
-MAX_OUTPUT_BYTES = _limit("MAX_OUTPUT_GB", 8) * 2**30
-"""Refuse runs whose stored histories would exceed this (8 GiB; POUND_MAX_OUTPUT_GB)."""
-MAX_STEPS = _limit("MAX_STEPS", 1e9)
-"""Refuse runs of more time steps than this (about half an hour of CDM; POUND_MAX_STEPS)."""
-MAX_STOREYS = _limit("MAX_STOREYS", 1000)
-"""Refuse buildings of more storeys than this (POUND_MAX_STOREYS): the exact propagator of a
-building of N storeys is a dense (6N)² matrix, 288 MB at 1000 storeys."""
 
 
 def _loaded(model: str | Path | LoadedModel) -> LoadedModel:
@@ -75,39 +60,47 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     """Validate, assemble, read the record and choose the time grid (no integration)."""
     loaded = _loaded(model)
     for b, building in enumerate(loaded.model.buildings):
-        storeys = sum(f.repeat for f in building.floors)
-        if storeys > MAX_STOREYS:
-            raise InputError(
-                f"{storeys} storeys: more than the limit of {MAX_STOREYS:.0f} (its state-transition matrix "
-                f"would take {(6 * storeys) ** 2 * 8 / 2**30:.2f} GiB; set POUND_MAX_STOREYS to allow more)",
-                file=loaded.source,
-                field=f"buildings[{b}].floors",
-            )
-    system = assemble(loaded)
-    contact = contact_arrays(loaded, system.buildings)
-    ground = ground_motion(loaded)
-    grid = time_grid(
-        loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt,
-        yielding=system.members.top.size > 0,
+        limits.check_storeys(sum(f.repeat for f in building.floors), loaded.source, f"buildings[{b}].floors")
+    # extreme inputs (a length of 1e300 m) overflow on the way; what comes out is checked
+    # (periods, time step, record) and refused with a message, so numpy need not warn
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        system = assemble(loaded)
+        contact = contact_arrays(loaded, system.buildings)
+        ground = ground_motion(loaded)
+        grid = time_grid(
+            loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max, ground.dt,
+            yielding=system.members.top.size > 0,
+        )
+    scene = Scene(loaded, system, contact, ground, grid)
+    limits.check_run(resource_run(scene), resource_size(scene), loaded.source)
+    return scene
+
+
+def resource_size(scene: Scene) -> limits.Size:
+    """What the scene stores at each output sample (for the resource limits)."""
+    return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size))
+
+
+def resource_run(scene: Scene) -> limits.Run:
+    """The scene's time grid and what set it, as the resource limits need them."""
+    analysis, grid, system = scene.loaded.model.analysis, scene.grid, scene.system
+    omegas = [float(b.modes.omega[-1]) for b in system.buildings]
+    b = int(np.argmax(omegas))
+    return limits.Run(
+        dt=grid.dt, n_steps=grid.n_steps, n_outputs=grid.n_outputs, output_interval=grid.output_interval,
+        duration=grid.duration, record_duration=scene.ground.duration,
+        given_dt=None if analysis.dt == "auto" else float(analysis.dt), given_duration=analysis.duration,
+        given_output_interval=analysis.output_interval,
+        auto_dt=_auto_step(grid, system),
+        structure_limit=grid.stability_limit, contact_limit=grid.contact_limit,
+        stiffest=(b, system.buildings[b].name),
     )  # fmt: skip
-    if grid.n_steps > MAX_STEPS:
-        raise InputError(
-            f"the analysis would take {grid.n_steps:.3g} steps of {grid.dt:.3g} s (ω_max = "
-            f"{system.omega_max:.3g} rad/s), more than the limit of {MAX_STEPS:.0e} (POUND_MAX_STEPS); check "
-            "the units of column sections (m), storey heights (m), E (Pa) and masses (kg)",
-            file=loaded.source,
-            field="analysis.dt",
-        )
-    size = grid.n_outputs * system.n_dof * 8 * 3
-    if size > MAX_OUTPUT_BYTES:
-        raise InputError(
-            f"the stored histories would take {size / 2**30:.1f} GiB ({grid.n_outputs} samples × "
-            f"{system.n_dof} DOFs × 3); the limit is {MAX_OUTPUT_BYTES / 2**30:.0f} GiB (POUND_MAX_OUTPUT_GB): "
-            "raise the output interval or shorten the duration",
-            file=loaded.source,
-            field="analysis.output_interval",
-        )
-    return Scene(loaded, system, contact, ground, grid)
+
+
+def _auto_step(grid: TimeGrid, system: System) -> float:
+    """The step `dt = "auto"` chooses for this grid's limits, s (before fitting it to the output)."""
+    which, fraction = governing_rule(grid.stability_limit, grid.contact_limit, system.members.top.size > 0)
+    return fraction * (grid.contact_limit if which == "contact" else grid.stability_limit)
 
 
 def check_output_path(path: Path, force: bool = False) -> None:
@@ -358,5 +351,21 @@ def execute(
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     if output is not None:
-        write_hdf5(result, output)
+        write_results(result, Path(output))
     return result
+
+
+def write_results(result: RunResult, output: Path) -> None:
+    """Write a run's HDF5 file. A file that cannot be written (disk full, no permission, the
+    folder gone) is an InputError, exit 2: nothing is written, so there are no partial results
+    to mark (exit 1 promises them). Interrupted while writing: AnalysisFailed, exit 1."""
+    try:
+        write_hdf5(result, output)
+    except InputError as exc:
+        raise InputError(
+            f"{exc.message}; the analysis ran ({result.status}) but its results were not written: make room or "
+            "give another output file, and run again",
+            file=exc.file,
+        ) from None
+    except KeyboardInterrupt:
+        raise AnalysisFailed(f"{output}: interrupted while writing the results; nothing was written") from None

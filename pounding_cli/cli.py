@@ -19,6 +19,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from . import __version__
+from .atomic import write_text
 from .errors import PoundError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
@@ -223,9 +224,8 @@ def schema(
                 stale.append(str(path))
             continue
         out_dir.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp")
-        tmp.write_text(text, encoding="utf-8")
-        tmp.replace(path)
+        with reported():
+            write_text(path, text)
         err.print(f"wrote {path}", markup=False)
     if stale:
         err.print(f"out of date: {', '.join(stale)}; run `pound schema`", markup=False)
@@ -316,7 +316,7 @@ def bench(
             out_dir.mkdir(parents=True, exist_ok=True)
             points = run_scaling(log=lambda text: err.print(text, markup=False))
             text = scaling_markdown(points)
-            (out_dir / "scaling.md").write_text(text, encoding="utf-8")
+            write_text(out_dir / "scaling.md", text)
         print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
         return
     if stability:
@@ -328,7 +328,7 @@ def bench(
             out_dir.mkdir(parents=True, exist_ok=True)
             outcomes = run_stability(log=lambda text: err.print(text, markup=False))
             text = stability_markdown(outcomes)
-            (out_dir / "stability.md").write_text(text, encoding="utf-8")
+            write_text(out_dir / "stability.md", text)
         if json_:
             print(json.dumps([{**asdict(o), "acceptable": o.acceptable} for o in outcomes], indent=2))
         else:
@@ -348,7 +348,7 @@ def bench(
             log=lambda text: err.print(text, markup=False),
         )  # fmt: skip
         text = markdown(reports)
-        (out_dir / "bench.md").write_text(text, encoding="utf-8")
+        write_text(out_dir / "bench.md", text)
         write_hdf5(reports, out_dir / "bench.h5")
         plot(reports, out_dir / "bench.png")
     if json_:

@@ -192,7 +192,7 @@ def test_failed_run_exits_1_and_keeps_marked_file(tmp_path, monkeypatch):
     out = tmp_path / "x.h5"
     r = runner.invoke(app, ["run", str(EXAMPLE), "-o", str(out)])
     assert r.exit_code == 1
-    assert re.search(r"failed: (diverged|unstable) at t = ", r.stderr)
+    assert re.search(r"failed: (diverged|unstable) at step \d+ \(t = ", r.stderr)
     with h5py.File(out) as f:
         assert re.match(r"failed: (diverged|unstable)", f.attrs["status"])
 

@@ -1,8 +1,17 @@
 """Killing a real `pound run` at random moments never leaves a final-named file that is
-incomplete; SIGTERM (like Ctrl-C) leaves the partial results marked "failed: interrupted"."""
+incomplete; SIGTERM and Ctrl-C (SIGINT) leave the partial results marked "failed: interrupted"
+once the time loop runs; a kill while the HDF5 file is being written leaves no final-named
+file (and an older one of that name untouched).
+
+Each run reports how far it got through markers: the progress hook of ANNOUNCING_RUN touches
+one when the time loop runs, and POUND_TEST_PAUSE_WRITING (results/hdf5.py) one when the file
+is half-written (and waits there, for the deterministic kills). The random kills' phases are
+counted and printed at the end of the module."""
 
 from __future__ import annotations
 
+import collections
+import os
 import random
 import signal
 import subprocess
@@ -34,15 +43,54 @@ cli.main()
 """`pound run` that touches a marker file once the time loop reports progress, so that a test
 can signal it mid-loop however long the imports and the kernel loading take."""
 
+PHASES = ("starting", "time loop", "writing", "done")
+KILLS: collections.Counter = collections.Counter()
+"""(signal, phase) of every random kill, printed at the end of the module."""
 
-def _start(tmp_path, out, marker=None):
-    # the CDM at every step makes the run long enough (~2 s of solver) to be hit mid-way
+
+@pytest.fixture(scope="module", autouse=True)
+def report_kill_phases(request):
+    yield
+    if KILLS:
+        reporter = request.config.pluginmanager.get_plugin("terminalreporter")
+        text = "; ".join(f"{sig}: " + ", ".join(f"{KILLS[sig, phase]} {phase}" for phase in PHASES)
+                         for sig in sorted({s for s, _ in KILLS}))  # fmt: skip
+        capture = request.config.pluginmanager.get_plugin("capturemanager")
+        if reporter is not None and capture is not None:
+            with capture.global_and_fixture_disabled():
+                reporter.write_line(f"\nrandom kills by phase reached: {text}")
+
+
+def _start(tmp_path, out, pause_writing: float = 0.0, extra=()):
+    """`pound run` of a CDM version of the pounding example (~2 s of solver, long enough to be
+    hit mid-way), announcing its phases by markers in tmp_path."""
     model = tmp_path / "slow.toml"
     model.write_text(MODEL.read_text().replace('dt = "auto"', 'dt = "auto"\nintegrator = "cdm"'))
     (tmp_path / "records").symlink_to(INPUTS / "records")
-    command = ["-m", "pounding_cli"] if marker is None else ["-c", ANNOUNCING_RUN, str(marker)]
-    return subprocess.Popen([sys.executable, *command, "run", str(model), "-o", str(out), "--no-progress"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)  # fmt: skip
+    env = {**os.environ, "POUND_TEST_PAUSE_WRITING": f"{tmp_path / 'writing'}:{pause_writing}"}
+    return subprocess.Popen([sys.executable, "-c", ANNOUNCING_RUN, str(tmp_path / "looping"), "run", str(model),
+                             "-o", str(out), "--no-progress", *extra],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)  # fmt: skip
+
+
+def _phase(tmp_path, out, code) -> str:
+    """How far the run had got when the signal arrived, from its file and markers (a run
+    stopped in the time loop goes on to write its partial results, touching "writing")."""
+    status = _check_final_file(out)
+    if status == "complete":
+        return "done"
+    if status == "failed: interrupted":
+        return "time loop"
+    if (tmp_path / "writing").exists():
+        return "writing"
+    return "time loop" if (tmp_path / "looping").exists() else "starting"
+
+
+def _wait_for(marker, process, seconds=120.0):
+    deadline = time.time() + seconds
+    while not marker.exists() and process.poll() is None and time.time() < deadline:
+        time.sleep(0.01)
+    assert marker.exists() or process.poll() is not None, f"{marker.name}: not reached within {seconds:g} s"
 
 
 def _check_final_file(out):
@@ -57,7 +105,7 @@ def _check_final_file(out):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("seed", range(8))
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
 def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
     out = tmp_path / "out.h5"
@@ -67,6 +115,7 @@ def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
     _, stderr = process.communicate(timeout=120)
     status = _check_final_file(out)
     code = process.returncode
+    KILLS[sig.name, _phase(tmp_path, out, code)] += 1
     if sig == signal.SIGKILL:
         assert code in (0, -signal.SIGKILL)
         assert status in (None, "complete") if code != 0 else status == "complete"
@@ -82,23 +131,22 @@ def test_killed_run_never_leaves_an_incomplete_file(tmp_path, seed, sig):
             assert status is None or status == "failed: interrupted", (status, stderr)
         else:
             assert status in (None, "complete")
-    leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records", "looping")]
+    leftovers = [p.name for p in tmp_path.iterdir() if p.name not in ("out.h5", "slow.toml", "records", "looping",
+                                                                      "writing")]
     if sig == signal.SIGTERM:
         assert leftovers == [], "no temporary file is left behind"
 
 
 @pytest.mark.slow
-def test_sigterm_during_the_time_loop_writes_marked_partial_results(tmp_path):
-    """Once the time loop runs, SIGTERM stops it and the partial results are written."""
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "Ctrl-C"])
+def test_a_stop_during_the_time_loop_writes_marked_partial_results(tmp_path, sig):
+    """Once the time loop runs, SIGTERM or Ctrl-C (SIGINT) stops it and the partial results
+    are written, marked."""
     out = tmp_path / "out.h5"
-    marker = tmp_path / "looping"
-    process = _start(tmp_path, out, marker)
-    deadline = time.time() + 120
-    while not marker.exists() and process.poll() is None and time.time() < deadline:
-        time.sleep(0.01)
-    assert marker.exists() or process.poll() is not None, "the time loop did not start within 120 s"
-    process.send_signal(signal.SIGTERM)
-    _, stderr = process.communicate(timeout=max(1, deadline - time.time()))
+    process = _start(tmp_path, out)
+    _wait_for(tmp_path / "looping", process)
+    process.send_signal(sig)
+    _, stderr = process.communicate(timeout=120)
     if process.returncode == 0:
         pytest.skip("the run finished before the signal (a fast machine)")
     assert process.returncode == 1, stderr
@@ -107,6 +155,33 @@ def test_sigterm_during_the_time_loop_writes_marked_partial_results(tmp_path):
     with h5py.File(out) as f:
         assert 0 < f["time"].shape[0] < 2001
 
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT, signal.SIGKILL], ids=["SIGTERM", "Ctrl-C", "SIGKILL"])
+def test_a_kill_while_the_file_is_written_leaves_no_final_file(tmp_path, sig):
+    """The run has finished and its HDF5 file is half-written under its temporary name (the
+    writer waits there, POUND_TEST_PAUSE_WRITING) when the signal arrives. SIGTERM and Ctrl-C:
+    the temporary file is removed, exit 1 saying nothing was written. SIGKILL: only the
+    temporary file is left, which the next writer of that folder can tell is stale. Either
+    way the older file of the final name (--force) is untouched."""
+    from pounding_cli.atomic import stale_temporaries
+
+    out = tmp_path / "out.h5"
+    out.write_bytes(b"an older result")
+    process = _start(tmp_path, out, pause_writing=60.0, extra=["--force"])
+    _wait_for(tmp_path / "writing", process)
+    temporary = tmp_path / f".out.h5.{process.pid}.tmp"
+    assert temporary.exists() and h5py.is_hdf5(temporary), "the file is being written under its temporary name"
+    process.send_signal(sig)
+    _, stderr = process.communicate(timeout=60)
+    assert out.read_bytes() == b"an older result"
+    if sig == signal.SIGKILL:
+        assert process.returncode == -signal.SIGKILL
+        assert stale_temporaries(tmp_path) == [temporary]
+    else:
+        assert process.returncode == 1, stderr
+        assert stderr.decode().strip().endswith(f"{out}: interrupted while writing the results; nothing was written")
+        assert not temporary.exists() and b"Traceback" not in stderr
 
 
 def test_a_handled_interrupt_inside_generated_code_still_exits_1(tmp_path):

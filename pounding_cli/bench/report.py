@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_path
 from .run import SceneReport, on_front
 
 
@@ -90,18 +90,16 @@ def write_hdf5(reports: list[SceneReport], path: Path) -> None:
          ("yielding_members", np.int64), ("member_deflection_error", np.float64), ("ductility_error", np.float64)]
     )  # fmt: skip
     table = np.array([tuple(r[name] for name in dtype.names) for r in rows], dtype=dtype)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with h5py.File(tmp, "w") as f:
+    from .. import __version__
+
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
         ds = f.create_dataset("bench", data=table)
         ds.attrs["units"] = "-, -, -, -, -, -, -, s, -, -, -, -, -, -, -, -"
         ds.attrs["note"] = ("member_deflection_error and ductility_error: the yielding members' peaks "
                             "(0 where yielding_members is 0)")  # fmt: skip
-        from .. import __version__
-
         f.attrs["pound_version"] = __version__
         for report in reports:
             f.attrs[f"reference:{report.scene}"] = report.reference.name
-    os.replace(tmp, path)
 
 
 def plot(reports: list[SceneReport], path: Path):
@@ -139,7 +137,6 @@ def plot(reports: list[SceneReport], path: Path):
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     fig.tight_layout()
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.png")
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
     return fig

@@ -9,6 +9,7 @@ from typing import Annotated
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
+from ..limits import MAX_REPEAT, check_repeat
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
 from .slab import SlabPolygon
@@ -131,7 +132,7 @@ class Floor(Strict):
     height: Annotated[Real, Field(ge=0.1, le=1000.0)]
     """Height of the storey below this floor (column length), m, 0.1 to 1000."""
 
-    repeat: Annotated[Count, Field(ge=1, le=500)] = 1
+    repeat: Annotated[Count, Field(ge=1, le=MAX_REPEAT)] = 1
     """Number of identical storeys this entry stands for, stacked upwards."""
 
     slab: SlabPolygon
@@ -158,6 +159,13 @@ class Floor(Strict):
 
     column_grid: ColumnGrid | None = None
     """Columns of the storey below this floor, generated on a grid (adds to `columns`)."""
+
+    @field_validator("repeat", mode="before")
+    @classmethod
+    def _repeat_within_limit(cls, value: object) -> object:
+        if isinstance(value, int) and not isinstance(value, bool):
+            check_repeat(value)  # before pydantic's bound, to say why there is one
+        return value
 
     @field_validator("eccentricity")
     @classmethod

@@ -76,7 +76,7 @@ def read_document(path: str | Path) -> dict[str, Any]:
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"invalid TOML: {exc}", file=path) from None
+            raise InputError(toml_problem(str(exc), text), file=path) from None
         except RecursionError:
             raise InputError("invalid TOML: nested too deeply", file=path) from None
         except ValueError as exc:  # an integer of more than sys.get_int_max_str_digits() digits
@@ -112,11 +112,24 @@ def validate_model(data: dict[str, Any], source: str | Path) -> LoadedModel:
 # --- messages -------------------------------------------------------------------------
 
 
+def toml_problem(message: str, text: str) -> str:
+    """tomllib's "Invalid value (at line 3, column 9)" as "line 3, column 9: invalid TOML:
+    Invalid value", the way JSON errors read; "(at end of document)" names the last line."""
+    found = re.fullmatch(r"(?s)(.*) \(at line (\d+), column (\d+)\)", message)
+    if found:
+        return f"line {found[2]}, column {found[3]}: invalid TOML: {found[1]}"
+    found = re.fullmatch(r"(?s)(.*) \(at end of document\)", message)
+    if found:
+        return f"line {text.count(chr(10)) + 1}, at the end of the file: invalid TOML: {found[1]}"
+    return f"invalid TOML: {message}"
+
+
 def format_loc(loc: tuple[Any, ...]) -> str:
     """('buildings', 0, 'floors', 2, 'mass') -> 'buildings[0].floors[2].mass'.
 
     Pydantic marks an invalid dict key with a trailing '[key]': ('materials', 'C30/37',
-    '[key]') -> 'materials["C30/37"]'.
+    '[key]') -> 'materials["C30/37"]'. A key with spaces or other characters no name may hold
+    is quoted too: ('analysis', 'dt ') -> 'analysis["dt "]', ('dt ',) -> '"dt "'.
     """
     out = ""
     for i, part in enumerate(loc):
@@ -126,9 +139,15 @@ def format_loc(loc: tuple[Any, ...]) -> str:
             out += f"[{part}]"
         elif i + 1 < len(loc) and loc[i + 1] == "[key]":
             out += f"[{json.dumps(part)}]"
+        elif not PLAIN_KEY.fullmatch(str(part)):  # a key of spaces or odd characters: quoted
+            out += f"[{json.dumps(str(part), ensure_ascii=False)}]" if out else json.dumps(str(part), ensure_ascii=False)
         else:
             out += ("." if out else "") + str(part)
     return out or "(top level)"
+
+
+PLAIN_KEY = re.compile(r"[A-Za-z0-9_.+\-]+")
+"""Keys written as they are in a field path: those a name may hold (model.base.Name)."""
 
 
 FRIENDLIER = {

@@ -28,7 +28,7 @@ from pydantic import (
 
 from ..errors import InputError
 from .base import Count, Name, Real, Strict
-from .load import FRIENDLIER, _first_sentence, _model_at, read_document
+from .load import FRIENDLIER, PLAIN_KEY, _first_sentence, _model_at, read_document
 
 MAX_CASES = 100_000
 """Most cases one sweep may expand to (and most values one parameter may take)."""
@@ -408,9 +408,9 @@ def format_sweep_loc(loc: tuple[Any, ...]) -> str:
         if isinstance(part, int):
             out += f"[{part}]"
             keyed = 0
-        elif keyed:
-            out += f"[{json.dumps(part, ensure_ascii=False)}]"
-            keyed -= 1
+        elif keyed or not PLAIN_KEY.fullmatch(str(part)):  # keyed, or a key of spaces or odd characters
+            out += f"[{json.dumps(part, ensure_ascii=False)}]" if out else json.dumps(part, ensure_ascii=False)
+            keyed = max(keyed - 1, 0)
         else:
             out += ("." if out else "") + str(part)
             keyed = _KEYED.get(part, 0)

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pounding_cli.atomic import atomic_path
 from pounding_cli.errors import InputError
 from pounding_cli.records.inspect import RecordData
 from pounding_cli.records.metrics import G, integrate
@@ -65,7 +66,8 @@ def record_figure(data: RecordData, periods: np.ndarray = DEFAULT_PERIODS) -> Fi
 
 
 def save_figure(figure: Figure, path: str | Path) -> None:
-    """Write `figure` to `path` (.png, .pdf or .svg); InputError naming the file otherwise."""
+    """Write `figure` to `path` (.png, .pdf or .svg), atomically; InputError naming the file
+    otherwise."""
     path = Path(path)
     kind = path.suffix.lower().lstrip(".")
     if kind not in FORMATS:
@@ -74,4 +76,5 @@ def save_figure(figure: Figure, path: str | Path) -> None:
         raise InputError(f"the folder {str(path.parent)!r} does not exist; create it first", file=path)
     if path.is_dir():
         raise InputError("is a folder; give a file name for the plot, e.g. record.png", file=path)
-    figure.savefig(path, format=kind, dpi=120)
+    with atomic_path(path) as tmp:
+        figure.savefig(tmp, format=kind, dpi=120)

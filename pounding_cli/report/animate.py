@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_path
 from ..errors import InputError
 from .document import G
 from .geometry import nice_magnification, plan_geometry
@@ -213,17 +214,19 @@ def _write_gif(images: list[np.ndarray], path: Path, fps: int) -> None:
         raise InputError("no frames to write", file=path)
     palette = _palette(images)
     frames = [Image.fromarray(a).quantize(palette=palette, dither=Image.Dither.NONE) for a in images]
-    tmp = path.with_name(f".{path.name}.tmp")
-    frames[0].save(tmp, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps), loop=0)
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        frames[0].save(tmp, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps), loop=0)
 
 
 def _write_mp4(images: list[np.ndarray], path: Path, fps: int, size: tuple[int, int]) -> None:
-    """An H.264 MP4 by piping the raw frames through ffmpeg."""
+    """An H.264 MP4 by piping the raw frames through ffmpeg, which writes the temporary file
+    (its container named by -f, as the temporary name has no .mp4 suffix)."""
     w, h = size
-    command = [shutil.which("ffmpeg") or "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
-               "-s", f"{w}x{h}", "-r", str(fps), "-i", "-", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-               "-pix_fmt", "yuv420p", "-vcodec", "libx264", str(path)]  # fmt: skip
-    done = subprocess.run(command, input=b"".join(a.tobytes() for a in images), capture_output=True, check=False)
-    if done.returncode != 0:
-        raise InputError(f"ffmpeg failed: {done.stderr.decode(errors='replace').strip()[:300]}", file=path)
+    with atomic_path(path) as tmp:
+        command = [shutil.which("ffmpeg") or "ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo",
+                   "-pix_fmt", "rgb24", "-s", f"{w}x{h}", "-r", str(fps), "-i", "-",
+                   "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p", "-vcodec", "libx264",
+                   "-f", "mp4", str(tmp)]  # fmt: skip
+        done = subprocess.run(command, input=b"".join(a.tobytes() for a in images), capture_output=True, check=False)
+        if done.returncode != 0:
+            raise InputError(f"ffmpeg failed: {done.stderr.decode(errors='replace').strip()[:300]}", file=path)

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
 
 from .. import __version__
+from ..atomic import write_text as write_atomically
 from ..errors import InputError
 from .document import summary
 from .histories import Floor
@@ -180,8 +181,4 @@ def write_text(path: str | Path, text: Callable[[], str]) -> Path:
         raise InputError(f"the folder {str(path.parent)!r} does not exist; create it first", file=path)
     if path.is_dir():
         raise InputError("is a folder; give a file name for the report, e.g. report.html", file=path)
-    body = text()
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(body, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return write_atomically(path, text())

@@ -1,20 +1,22 @@
 """Writing and reading the HDF5 result file (the layout is a contract:
 docs/user-guide.md, "HDF5 layout").
 
-Files are written beside their final name and renamed into place only when complete, so a
-file with the final name is never half-written.
+Files are written beside their final name and renamed into place only when complete
+(:mod:`pounding_cli.atomic`), so a file with the final name is never half-written.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import time
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
 
+from ..atomic import atomic_path
 from .result import (
     ENERGY_NAMES,
     EVENT_DTYPE,
@@ -68,16 +70,12 @@ def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, **attrs
 
 
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
-    """Write a run's results to `path` atomically; returns the path."""
+    """Write a run's results to `path` atomically; returns the path. A file that cannot be
+    written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    with atomic_path(path) as tmp:
         with h5py.File(tmp, "w", track_order=True) as f:
             _write(f, result)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     result.output = path
     return path
 
@@ -96,11 +94,23 @@ def _write(f: h5py.File, r: RunResult) -> None:
     buildings = f.create_group("buildings", track_order=True)
     for name, b in r.buildings.items():
         _write_building(buildings.create_group(name), b)
+    _pause_for_tests()
     _write_contact(f.create_group("impacts"), r.contact)
     _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
     diag = f.create_group("diagnostics")
     for key, value in r.diagnostics.items():
         diag.attrs[key] = value
+
+
+def _pause_for_tests() -> None:
+    """For tests/test_interrupts.py only: with POUND_TEST_PAUSE_WRITING="<marker>:<seconds>",
+    touch the marker once the file is half-written, then wait, so that a test can kill the
+    process while the file is being written, at a known moment. Without it, nothing."""
+    spec = os.environ.get("POUND_TEST_PAUSE_WRITING")
+    if spec:
+        marker, _, seconds = spec.rpartition(":")
+        Path(marker).touch()
+        time.sleep(float(seconds))
 
 
 def _write_contact(g: h5py.Group, c: ContactResult) -> None:

@@ -254,8 +254,11 @@ def advance(
     # yielding members (hysteresis.py): parameters, plastic deflections, correction g, outputs
     members, plastic, g, out_member, peak_member,
 ):
-    """Advance steps n_start … n_stop − 1; returns (status, last step done + 1). A
-    displacement that passes u_limit or is NaN stops the run at that step (STATUS_DIVERGED)."""
+    """Advance steps n_start … n_stop − 1; returns (STATUS_OK, n_stop), or (status, m) for the
+    first state u_m (at t_m = m·dt) that fails a check: a displacement that passes u_limit or
+    is not finite (NaN, ±inf; a non-finite velocity or force makes it so within the step)
+    stops the run at the step that made it (STATUS_DIVERGED), checked at every step at the
+    cost of one comparison per DOF."""
     n_dof = mass.size
     n_floors = n_dof // 3
     has_members = plastic.shape[0] > 0
@@ -312,7 +315,7 @@ def advance(
             status = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
                                   out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit, e_plastic)  # fmt: skip
             if status != STATUS_OK:
-                return status, n + 1
+                return status, n
         elif has_members:
             member_states(u, members, plastic, -1, out_member, peak_member)
         # 10. update to t_{n+1} (the ground entries stay zero); a bad value stops the run here

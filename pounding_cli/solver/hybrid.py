@@ -31,6 +31,7 @@ import numpy as np
 from .cdm import (
     ACC_FRESH,
     ACC_HYSTERETIC,
+    STATUS_DIVERGED,
     STATUS_OK,
     accumulate_energy,
     advance,
@@ -50,8 +51,10 @@ from .jit import REASSOCIATE, kernel
 MODE_EXACT, MODE_CDM, MODE_CDM_YIELD = 0, 1, 2  # exact; CDM at the contact step; CDM at the yielding step
 ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
 LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
-# counters
-CNT_EXACT, CNT_CDM, CNT_SWITCHES = range(3)
+# counters: exact substeps, CDM steps, hand-overs, and the step (in CDM steps) whose state
+# failed the divergence check (−1 while none has)
+CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP = range(4)
+N_COUNTERS = 4
 
 
 @kernel
@@ -110,9 +113,11 @@ def hybrid_advance(
     geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
     members, plastic, g, out_member, peak_member,
 ):  # fmt: skip
-    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done).
-    At k = k_end, the end of the analysis, only the state at t_k is taken (output, peaks):
-    nothing is integrated past it.
+    """Advance substeps k_start … k_stop − 1 of length h; returns (status, substeps done). A
+    displacement that passes u_limit or is not finite stops the run at the substep (or the CDM
+    step) that made it: STATUS_DIVERGED, with that step (in CDM steps at the contact step)
+    in counters[CNT_FAILED_STEP]. At k = k_end, the end of the analysis, only the state at t_k
+    is taken (output, peaks): nothing is integrated past it.
     The CDM takes sub steps per substep around contacts, sub_y (with the step matrices
     binv_y) where only yielding members need it.
 
@@ -153,6 +158,7 @@ def hybrid_advance(
                                       out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit,
                                       e_plastic)  # fmt: skip
                 if status != STATUS_OK:
+                    counters[CNT_FAILED_STEP] = k * sub
                     return status, k
             if k == k_end:
                 return STATUS_OK, k + 1
@@ -171,6 +177,12 @@ def hybrid_advance(
                     for d in range(n_dof):
                         u[d] += u_static[d]
                 counters[CNT_EXACT] += 1
+                # a bad value stops the run at the substep that made it (a non-finite velocity
+                # makes the displacement non-finite within the same substep: propagate mixes them)
+                for d in range(n_dof):
+                    if not abs(u[d]) <= u_limit:
+                        counters[CNT_FAILED_STEP] = (k + 1) * sub
+                        return STATUS_DIVERGED, k + 1
                 continue
             # a contact may begin soon, or a member yield: hand the state to the CDM at t_k
             mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
@@ -188,7 +200,7 @@ def hybrid_advance(
         else:
             step, steps, step_matrix = dt_y, sub_y, binv_y
         last = k * steps + 1 if k == k_end else (k + 1) * steps  # at the end: the state at t_k only
-        status, _ = advance(k * steps, last, step, stride_h * steps, u_limit,
+        status, failed_at = advance(k * steps, last, step, stride_h * steps, u_limit,
                             mass, damping, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
                             ground, ground_dt, storey_axes, centre, col_storey, col_arm,
                             u, v_half, ku, cv_half, acc,
@@ -198,6 +210,7 @@ def hybrid_advance(
                             geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
                             members, plastic, g, out_member, peak_member)  # fmt: skip
         if status != STATUS_OK:
+            counters[CNT_FAILED_STEP] = failed_at * sub // steps  # in contact steps
             return status, k
         if k == k_end:
             return STATUS_OK, k + 1

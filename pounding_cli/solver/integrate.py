@@ -158,6 +158,7 @@ class Response:
     cdm_steps: int = 0  # steps taken by the CDM
     switches: int = 0  # hybrid: hand-overs between the two
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
+    failure_step: int = -1  # a failed run: the step m whose state (at t_m = m·dt) failed a check first
     member_history: np.ndarray | None = None  # (n_out, n_members, 4) local δ_x, δ_y m, f_x, f_y N
     peak_member: np.ndarray | None = None  # (n_members, 6) |δ_x|, |δ_y|, |δ| m, |f_x|, |f_y|, |f| N
     residual_member: np.ndarray | None = None  # (n_members, 2) local deflection at rest after the run, m
@@ -347,7 +348,8 @@ def simulate(
         geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
         members, plastic, g, out_member, peak_member,
     )  # fmt: skip
-    counters = np.zeros(3, dtype=np.int64)
+    counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
+    counters[hybrid.CNT_FAILED_STEP] = -1
     kinv = np.zeros((1, 1, 1))
     if substep > 0:
         if n_steps % substep or stride % substep:
@@ -373,6 +375,8 @@ def simulate(
         def advance(start: int, stop: int) -> tuple[int, int]:
             status, done = cdm.advance(start, stop, dt, stride, DIVERGENCE_LIMIT, *cdm_args)
             counters[hybrid.CNT_CDM] += min(done, total) - start  # the pass at t_N ends the run: not a step
+            if status != cdm.STATUS_OK:
+                counters[hybrid.CNT_FAILED_STEP] = done
             return status, done
 
     chunk = max(1, chunk // unit)
@@ -395,19 +399,19 @@ def simulate(
     except KeyboardInterrupt:
         status = -1
     done *= unit
+    failed_step = int(counters[hybrid.CNT_FAILED_STEP])
     if status == cdm.STATUS_OK:
         text, valid = "complete", n_out
     elif status == cdm.STATUS_DIVERGED:
         valid = _leading_good_rows(outs[0], out_energy)
-        text = (
-            f"failed: diverged at t = {done * dt:.4g} s (a displacement exceeded "
-            f"{DIVERGENCE_LIMIT:g} m or became NaN or infinite); Δt = {dt:.3g} s may be too large"
-        )
+        what = (f"a displacement exceeded {DIVERGENCE_LIMIT:g} m" if np.isfinite(u[:n_dof]).all()
+                else "the state became NaN or infinite")  # fmt: skip
+        text = f"failed: diverged at step {failed_step} (t = {failed_step * dt:.6g} s): {what}; Δt = {dt:.3g} s may be too large"
     elif status == cdm.STATUS_ENERGY:
         valid = _leading_good_rows(outs[0], out_energy)
         text = (
-            f"failed: unstable at t = {max(valid - 1, 0) * stride * dt:.4g} s (the energy balance error passed "
-            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play); Δt = {dt:.3g} s is too large for the "
+            f"failed: unstable at step {failed_step} (t = {failed_step * dt:.6g} s): the energy balance error passed "
+            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play; Δt = {dt:.3g} s is too large for the "
             'stiffest vibration (structure or contact): use dt = "auto" or a smaller step'
         )
     else:
@@ -439,6 +443,7 @@ def simulate(
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
         failure_dof=_failure_dof(u[:n_dof], v_half[:n_dof]) if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
+        failure_step=failed_step if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
         member_history=out_member[cut] if n_members else None,
         peak_member=peak_member if n_members else None,
         residual_member=residual_deflections(structure, plastic, members) if n_members else None,

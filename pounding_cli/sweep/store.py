@@ -16,19 +16,18 @@ from __future__ import annotations
 
 import json
 import os
-import re
 import socket
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
+from ..atomic import stale_temporaries, write_text
 from ..errors import InputError
 
 CASES = "cases"
 MANIFEST = "sweep.json"
 LOCK = ".lock"
-_TEMPORARY = re.compile(r"^\.(?P<name>[0-9a-f]{12}\.(h5|failed\.json))\.(?P<pid>[0-9]+)\.tmp$")
 
 COMPLETE, PENDING = "complete", "pending"
 
@@ -127,17 +126,14 @@ class OutputFolder:
     def remove_stale_temporaries(self) -> list[Path]:
         """Delete temporary files (``.<hash>.h5.<pid>.tmp``) whose writing process no longer
         runs on this machine (a killed sweep); returns them."""
-        removed = []
-        for path in self.cases.glob(".*.tmp"):
-            match = _TEMPORARY.match(path.name)
-            if match and not _alive(int(match["pid"])):
-                path.unlink(missing_ok=True)
-                removed.append(path)
+        removed = stale_temporaries(self.cases)
+        for path in removed:
+            path.unlink(missing_ok=True)
         return removed
 
     def write_manifest(self, document: dict[str, Any]) -> None:
         """Write sweep.json atomically."""
-        write_atomic(self.manifest, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
+        write_text(self.manifest, json.dumps(document, indent=1, ensure_ascii=False) + "\n")
 
     def read_manifest(self) -> dict[str, Any]:
         """The manifest of the sweep last run into this folder."""
@@ -147,23 +143,3 @@ class OutputFolder:
             raise InputError(f"no {MANIFEST}: not the output folder of a pound sweep", file=self.root) from None
         except ValueError as exc:
             raise InputError(f"{MANIFEST} is not valid JSON ({exc})", file=self.root) from None
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write a text file under a temporary name, then rename it into place."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True

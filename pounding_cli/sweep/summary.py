@@ -19,13 +19,13 @@ import csv
 import io
 import json
 import math
-import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .store import COMPLETE, PENDING, OutputFolder, write_atomic
+from ..atomic import atomic_path, write_text
+from .store import COMPLETE, PENDING, OutputFolder
 
 SUMMARY_H5 = "summary.h5"
 SUMMARY_CSV = "summary.csv"
@@ -115,15 +115,9 @@ def _json_ready(value: Any) -> Any:
 def write_summary(folder: OutputFolder, manifest: dict[str, Any], rows: list[dict[str, Any]]) -> tuple[Path, Path]:
     """Write summary.h5 and summary.csv atomically; returns their paths."""
     h5 = folder.root / SUMMARY_H5
-    tmp = h5.with_name(f".{h5.name}.{os.getpid()}.tmp")
-    try:
+    with atomic_path(h5) as tmp:
         _write_h5(tmp, manifest, rows)
-        os.replace(tmp, h5)
-    finally:
-        tmp.unlink(missing_ok=True)
-    path = folder.root / SUMMARY_CSV
-    write_atomic(path, csv_text(manifest["columns"], rows))
-    return h5, path
+    return h5, write_text(folder.root / SUMMARY_CSV, csv_text(manifest["columns"], rows))
 
 
 def counts(rows: list[dict[str, Any]]) -> dict[str, int]:

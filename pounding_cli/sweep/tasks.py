@@ -82,7 +82,7 @@ def _message(exc: BaseException) -> str:
 
 def write_failure(path: Path, input_sha256: str, status: str) -> None:
     """Write a failure note atomically: {"status", "input_sha256", "host", "pid"}."""
+    from ..atomic import write_text
+
     note = {"status": status, "input_sha256": input_sha256, "host": socket.gethostname(), "pid": os.getpid()}
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(note, indent=1) + "\n", encoding="utf-8")
-    os.replace(tmp, path)
+    write_text(path, json.dumps(note, indent=1) + "\n")
