@@ -411,7 +411,8 @@ def simulate(
         valid = _leading_good_rows(outs[0], out_energy)
         text = (
             f"failed: unstable at step {failed_step} (t = {failed_step * dt:.6g} s): the energy balance error passed "
-            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play; Δt = {dt:.3g} s is too large for the "
+            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play, or the contacts gave out more energy than they took "
+            f"by {100 * cdm.ENERGY_LIMIT:g} % of the input; Δt = {dt:.3g} s is too large for the "
             'stiffest vibration (structure or contact): use dt = "auto" or a smaller step'
         )
     else:
