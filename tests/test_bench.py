@@ -138,3 +138,21 @@ def test_crossover_measures_both_broad_phases(monkeypatch):
     assert (point.pairs, point.members) == (9, 9)
     assert min(point.contact_all_ns, point.contact_sweep_ns, point.horizon_all_ns, point.horizon_sweep_ns) > 0
     assert "| row of 3 | 9 | 9 | 1.00 |" in crossover.markdown([point])
+
+
+def test_input_sensitivity_of_a_linear_scene_is_the_perturbation_itself():
+    """A linear scene without contact scales with its input: the record × (1 + 1e-4) moves
+    every peak by exactly 1e-4 of itself (1e-6 relative: the difference of two peaks 1e-4
+    apart keeps ~12 digits), and the error floor is the larger of that and the reference's
+    own halving change. The floor and the sensitivity reach the Markdown, JSON and HDF5."""
+    from pounding_cli.bench.run import PERTURBATION, SETTINGS
+
+    linear = next(p for p in scene_files() if p.stem == "linear")
+    default = next(s for s in SETTINGS if s.default)
+    (report,) = bench([linear], (default,), repeats=1, reference_divisor=1, duration=6.0)
+    assert report.sensitivity is not None and report.sensitivity.impact_count == 0
+    assert report.sensitivity.peak_deflection == pytest.approx(PERTURBATION, rel=1e-6)
+    assert report.floor == max(report.convergence.peak_deflection, report.sensitivity.peak_deflection)
+    assert "Scaling the record by 1 + 0.0001 changes peak deflections by 1.0e-04" in markdown([report])
+    (row,) = table_rows([report])
+    assert row["input_sensitivity"] == report.sensitivity.peak_deflection and row["error_floor"] == report.floor

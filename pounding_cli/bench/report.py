@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import atomic_path
-from .run import SceneReport, on_front
+from .run import PERTURBATION, SceneReport, on_front
 
 
 def table_rows(reports: list[SceneReport]) -> list[dict]:
@@ -35,6 +35,9 @@ def table_rows(reports: list[SceneReport]) -> list[dict]:
                     "yielding_members": e.members,
                     "member_deflection_error": e.member_deflection,
                     "ductility_error": e.ductility,
+                    "reference_halving_change": report.convergence.peak_deflection,
+                    "input_sensitivity": report.sensitivity.peak_deflection if report.sensitivity else None,
+                    "error_floor": report.floor,
                 }
             )
     return out
@@ -54,6 +57,7 @@ def markdown(reports: list[SceneReport]) -> str:
             f"{c.peak_deflection_norm:.1e}) and the peak force by {c.peak_force:.1e} (impacts {c.impact_count:+d})"
             + (f"; the {c.members} yielding members' peak deflections by {c.member_deflection:.1e} and "
                f"peak ductilities by {c.ductility:.1e}" if members else "")
+            + _sensitivity(report)
             + "\n"
         )  # fmt: skip
         extra = " member deflection error | ductility error |" if members else ""
@@ -74,6 +78,16 @@ def markdown(reports: list[SceneReport]) -> str:
             )
         lines.append("")
     return "\n".join(lines)
+
+
+def _sensitivity(report: SceneReport) -> str:
+    """The scene's sensitivity to its input, in words (empty if not measured)."""
+    e = report.sensitivity
+    if e is None:
+        return ""
+    return (f". Scaling the record by 1 + {PERTURBATION:g} changes peak deflections by {e.peak_deflection:.1e} "
+            f"(normwise {e.peak_deflection_norm:.1e}), the peak force by {e.peak_force:.1e} (impacts "
+            f"{e.impact_count:+d}): errors below {report.floor:.1e} cannot be told apart")  # fmt: skip
 
 
 def write_hdf5(reports: list[SceneReport], path: Path) -> None:
@@ -100,6 +114,10 @@ def write_hdf5(reports: list[SceneReport], path: Path) -> None:
         f.attrs["pound_version"] = __version__
         for report in reports:
             f.attrs[f"reference:{report.scene}"] = report.reference.name
+            f.attrs[f"reference_halving_change:{report.scene}"] = report.convergence.peak_deflection
+            if report.sensitivity is not None:
+                f.attrs[f"input_sensitivity:{report.scene}"] = report.sensitivity.peak_deflection
+            f.attrs[f"error_floor:{report.scene}"] = report.floor
 
 
 def plot(reports: list[SceneReport], path: Path):

@@ -42,10 +42,11 @@ class Analysis(Strict):
     whole number of output intervals."""
 
     dt: TimeStep = "auto"
-    """Time step of the central difference method, s, or "auto": 0.05 × its stability limit
-    2/ω, ω the highest frequency of the structure or, when it is higher, the contact's
-    estimate, adjusted so that it divides the output interval (the hybrid's substep); `pound
-    validate` says which limit governs (see docs/theory.md)."""
+    """Time step of the central difference method, s, or "auto": the finest of 0.05 × the
+    structure's stability limit 2/ω_max (0.0125 × with yielding members) and 0.0125 × the
+    contact's 2/ω_contact where contact is possible, adjusted so that it divides the output
+    interval (the hybrid's substep); `pound validate` says which limit governs (see
+    docs/theory.md §6). A given step applies to every CDM step."""
 
     integrator: Literal["auto", "hybrid", "cdm"] = "auto"
     """"hybrid" (what "auto" chooses): the buildings advance exactly by their state-transition
