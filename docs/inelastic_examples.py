@@ -149,11 +149,11 @@ def main() -> None:
     loops_figure(shown, "isolated", "I9", IMAGES / "inelastic-isolator-loops.png")
     energy_figure(cases["gap 10 cm"], "isolated_moat.toml (moat gap 10 cm): energy balance",
                   IMAGES / "inelastic-isolated-energy.png")  # fmt: skip
-    PAGE.write_text(page(inelastic, linear, cases, outcome))
+    PAGE.write_text(page(inelastic, linear, cases, outcome, args.jobs))
     print(f"wrote {PAGE}", file=sys.stderr)
 
 
-def page(inelastic, linear, cases: dict, outcome) -> str:
+def page(inelastic, linear, cases: dict, outcome, jobs: int) -> str:
     d = isolated_mode_damping()
     m = member_rows(inelastic, "left")
     mr = member_rows(inelastic, "right")
@@ -235,7 +235,7 @@ share of the input energy the bearings dissipated.
 | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
 {table}
 
-The sweep's {len(outcome.rows)} cases took {outcome.wall_time_s:.0f} s with `pound sweep --jobs 2`.
+The sweep's {len(outcome.rows)} cases took {outcome.wall_time_s:.0f} s with `pound sweep --jobs {jobs}`.
 
 ![Isolator I9: force against displacement at three moat gaps](images/inelastic-isolator-loops.png)
 
