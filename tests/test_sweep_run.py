@@ -294,16 +294,17 @@ def test_interrupted_sweep_writes_its_summary_and_exits_1(sig, tmp_path):
 
 
 def test_a_failing_case_stops_nothing_and_exits_1(tmp_path):
-    """Δt = 4 ms is below the structural stability limit (checked) but too large for the
-    contact (found while running): that case fails, with partial results; the other runs."""
+    """Δt = 4 ms is below the structural stability limit (checked) but ten times the contact's
+    (2/ω_contact = 0.43 ms; found while running): that case fails, with partial results; the
+    other, at 0.2 ms within both limits, runs."""
     sweep = write_sweep(tmp_path, 'set = { "analysis.integrator" = "cdm", "analysis.duration" = 20.0, '
-                        '"buildings.right.origin[0]" = 8.02 }\nparameters = { "analysis.dt" = [0.002, 0.004] }\n')  # fmt: skip
+                        '"buildings.right.origin[0]" = 8.02 }\nparameters = { "analysis.dt" = [0.0002, 0.004] }\n')  # fmt: skip
     out = tmp_path / "out"
     result = runner.invoke(app, ["sweep", str(sweep), "-o", str(out), "--jobs", "2", "--json"])
     assert result.exit_code == 1, result.output
     rows = [json.loads(line) for line in result.stdout.splitlines()]
     status = {r["analysis.dt"]: r["status"] for r in rows}
-    assert status[0.002] == "complete" and status[0.004].startswith("failed: unstable")
+    assert status[0.0002] == "complete" and status[0.004].startswith("failed: unstable")
     assert "1 failed" in result.stderr and status[0.004] in result.stderr
     failed = next(r for r in rows if r["analysis.dt"] == 0.004)
     assert (out / failed["file"]).exists() and failed["impacts"] is not None, "partial results are kept"
@@ -325,7 +326,7 @@ def test_progress_bar_counts_done_and_failed_with_an_eta(tmp_path, monkeypatch):
     monkeypatch.setattr(cli, "err", Console(file=screen, force_terminal=True, width=160, highlight=False,
                                             soft_wrap=True, color_system=None))  # fmt: skip
     sweep = write_sweep(tmp_path, 'set = { "analysis.integrator" = "cdm", "analysis.duration" = 20.0, '
-                        '"buildings.right.origin[0]" = 8.02 }\nparameters = { "analysis.dt" = [0.002, 0.004] }\n')  # fmt: skip
+                        '"buildings.right.origin[0]" = 8.02 }\nparameters = { "analysis.dt" = [0.0002, 0.004] }\n')  # fmt: skip
     result = runner.invoke(app, ["sweep", str(sweep), "-o", str(tmp_path / "out"), "--jobs", "2", "--progress"])
     assert result.exit_code == 1, result.output
     text = screen.getvalue()
