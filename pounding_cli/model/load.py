@@ -14,12 +14,14 @@ import types
 import typing
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, TypeVar
 
 from pydantic import BaseModel, ValidationError
 
 from ..errors import InputError
 from .root import PoundModel
+
+M = TypeVar("M", bound=BaseModel)
 
 MAX_MODEL_BYTES = 50_000_000
 
@@ -97,12 +99,7 @@ def load_model(path: str | Path) -> LoadedModel:
 def validate_model(data: dict[str, Any], source: str | Path) -> LoadedModel:
     """Validate an already parsed model document that came from `source`."""
     source = Path(source)
-    try:
-        model = PoundModel.model_validate(data)
-    except ValidationError as exc:
-        raise InputError("\n".join(_describe(source, e) for e in exc.errors())) from None
-    except RecursionError:
-        raise InputError("nested too deeply to be a model", file=source) from None
+    model = validated(PoundModel, data, source, "a model", _describe)
     problems = [f"{source}: {field}: {message}" for field, message in model.cross_reference_problems()]
     if problems:
         raise InputError("\n".join(problems))
@@ -162,49 +159,68 @@ FRIENDLIER = {
 }
 
 
-def _describe(source: Path, error: dict[str, Any]) -> str:
+def validated(schema: type[M], data: dict[str, Any], source: Path, what: str,
+              describe: Callable[[Path, dict[str, Any]], str]) -> M:
+    """`data` validated by `schema`; InputError with one ``file: field: message`` line per
+    problem (`describe` words them), or saying that the document is nested too deeply to be
+    `what` (Python's recursion limit, reached by a fuzzed file of thousands of nested lists)."""
+    try:
+        return schema.model_validate(data)
+    except ValidationError as exc:
+        raise InputError("\n".join(describe(source, e) for e in exc.errors())) from None
+    except RecursionError:
+        raise InputError(f"nested too deeply to be {what}", file=source) from None
+
+
+def describe_error(source: Path, error: dict[str, Any], root: type[BaseModel], *,
+                   where: Callable[[tuple[Any, ...]], str] = format_loc,
+                   text_for: Callable[[str, tuple[Any, ...]], str | None] = lambda kind, loc: None,
+                   unknown_key_note: Callable[[type[BaseModel], str], str] = lambda owner, key: "") -> str:
+    """``file: field: message`` for one pydantic error of a file validated by `root`: an
+    unknown key with the closest valid name (or the valid ones), otherwise what was expected,
+    what was given and the first sentence of the field's description (which gives its unit).
+    `where` writes the location, `text_for` may word an error kind its own way, and
+    `unknown_key_note` adds to an unknown key's message."""
     loc = tuple(error["loc"])
     kind = error["type"]
-    msg = error["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
     if kind == "extra_forbidden":
-        owner = _model_at(PoundModel, loc[:-1])
+        owner = _model_at(root, loc[:-1])
         key = str(loc[-1])
         text = f"unknown key {key!r}"
         if owner is not None:
             fields = list(owner.model_fields)
             close = difflib.get_close_matches(key, fields, n=1, cutoff=0.6)
             text += f"; did you mean {close[0]!r}?" if close else f"; valid keys: {', '.join(fields)}"
-        return f"{source}: {format_loc(loc)}: {text}"
-    if kind == "missing":
-        text = "required field missing"
-    else:
-        text = FRIENDLIER.get(kind, msg)
-        value = error.get("input")
-        if "got " in text:
-            pass  # the validator already quoted the value
-        elif not isinstance(value, (dict, list)) or kind.startswith(("too_", "list_")):
-            shown = repr(value)
-            if isinstance(value, (dict, list)):
-                shown = f"{type(value).__name__} of {len(value)} items"
-            text += f"; got {shown[:80]}"
-    hint = _description(loc)
+            text += unknown_key_note(owner, key)
+        return f"{source}: {where(loc)}: {text}"
+    msg = error["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
+    text = "required field missing" if kind == "missing" else text_for(kind, loc) or FRIENDLIER.get(kind, msg)
+    value = error.get("input")
+    if kind != "missing" and "got " not in text:  # else the validator already quoted the value
+        if not isinstance(value, (dict, list)):
+            text += f"; got {value!r:.80}"
+        elif kind.startswith(("too_", "list_")):
+            text += f"; got {type(value).__name__} of {len(value)} items"
+    hint = _description(root, loc)
     if hint:
         text += f" ({hint})"
-    return f"{source}: {format_loc(loc)}: {text}"
+    return f"{source}: {where(loc)}: {text}"
 
 
-def _description(loc: tuple[Any, ...]) -> str:
-    """First sentence of the description of the field at (or holding) `loc`: its unit."""
-    names = [p for p in loc if isinstance(p, str)]
+def _describe(source: Path, error: dict[str, Any]) -> str:
+    """A model file's error (describe_error)."""
+    return describe_error(source, error, PoundModel)
+
+
+def _description(root: type[BaseModel], loc: tuple[Any, ...]) -> str:
+    """First sentence of the description of the field named last in `loc` (list indices after
+    it skipped), in the file validated by `root`: it gives the field's unit."""
     for cut in range(len(loc), 0, -1):
-        if not isinstance(loc[cut - 1], str):
-            continue
-        owner = _model_at(PoundModel, loc[: cut - 1])
-        if owner is not None and loc[cut - 1] in owner.model_fields:
-            desc = " ".join((owner.model_fields[loc[cut - 1]].description or "").split())
-            return _first_sentence(desc)
-        if names:
-            break
+        if isinstance(loc[cut - 1], str):
+            owner = _model_at(root, loc[: cut - 1])
+            if owner is not None and loc[cut - 1] in owner.model_fields:
+                return _first_sentence(" ".join((owner.model_fields[loc[cut - 1]].description or "").split()))
+            return ""
     return ""
 
 

@@ -15,14 +15,12 @@ counter-clockwise. Without azimuths, L points along θ and T along θ + 90°.
 from __future__ import annotations
 
 import datetime
-import difflib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, ValidationError, WithJsonSchema, model_validator
+from pydantic import BeforeValidator, Field, WithJsonSchema, model_validator
 from pydantic import Strict as StrictType
 
-from ..errors import InputError
 from .base import Positive, Real, SampleInterval, Strict
 
 Units = Literal["g", "m/s2", "cm/s2", "gal"]
@@ -289,32 +287,13 @@ def load_record(path: str | Path) -> Record:
 
 def validate_record(data: dict[str, Any], source: str | Path) -> Record:
     """Validate an already parsed record definition that came from `source`."""
-    try:
-        return Record.model_validate(data)
-    except ValidationError as exc:
-        raise InputError("\n".join(_describe(Path(source), e) for e in exc.errors())) from None
+    from .load import validated
+
+    return validated(Record, data, Path(source), "a record definition", _describe)
 
 
 def _describe(source: Path, error: dict[str, Any]) -> str:
-    """``file: field: message`` for one validation error, as model files word them."""
-    from .load import FRIENDLIER, _first_sentence, _model_at, format_loc
+    """A record definition's error, worded as model files word theirs."""
+    from .load import describe_error
 
-    loc = tuple(error["loc"])
-    kind = error["type"]
-    msg = error["msg"].removeprefix("Value error, ")
-    if kind == "extra_forbidden":
-        owner = _model_at(Record, loc[:-1])
-        key, text = str(loc[-1]), f"unknown key {str(loc[-1])!r}"
-        if owner is not None:
-            close = difflib.get_close_matches(key, list(owner.model_fields), n=1, cutoff=0.6)
-            text += f"; did you mean {close[0]!r}?" if close else f"; valid keys: {', '.join(owner.model_fields)}"
-        return f"{source}: {format_loc(loc)}: {text}"
-    text = "required field missing" if kind == "missing" else FRIENDLIER.get(kind, msg)
-    value = error.get("input")
-    if kind != "missing" and "got " not in text and not isinstance(value, (dict, list)):
-        text += f"; got {repr(value)[:80]}"
-    owner = _model_at(Record, loc[:-1]) if loc and isinstance(loc[-1], str) else None
-    if owner is not None and loc[-1] in owner.model_fields:
-        hint = _first_sentence(" ".join((owner.model_fields[loc[-1]].description or "").split()))
-        text += f" ({hint})" if hint else ""
-    return f"{source}: {format_loc(loc)}: {text}"
+    return describe_error(source, error, Record)

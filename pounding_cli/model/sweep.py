@@ -14,7 +14,6 @@ expanded against the base model (:mod:`pounding_cli.sweep.expand`), before anyth
 from __future__ import annotations
 
 import datetime
-import difflib
 import json
 import math
 import re
@@ -23,12 +22,11 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import (
-    BaseModel, BeforeValidator, Discriminator, Field, JsonValue, PlainValidator, Tag, ValidationError, WithJsonSchema, model_validator,
+    BaseModel, BeforeValidator, Discriminator, Field, JsonValue, PlainValidator, Tag, WithJsonSchema, model_validator,
 )  # fmt: skip
 
-from ..errors import InputError
 from .base import Count, Name, Real, Strict
-from .load import FRIENDLIER, PLAIN_KEY, _first_sentence, _model_at, read_document
+from .load import FRIENDLIER, PLAIN_KEY, describe_error, read_document, validated
 
 MAX_CASES = 100_000
 """Most cases one sweep may expand to (and most values one parameter may take)."""
@@ -384,13 +382,7 @@ def load_sweep(path: str | Path) -> LoadedSweep:
 def validate_sweep(data: dict[str, Any], source: str | Path) -> LoadedSweep:
     """Validate an already parsed sweep document that came from `source`."""
     source = Path(source)
-    try:
-        sweep = SweepFile.model_validate(data)
-    except ValidationError as exc:
-        raise InputError("\n".join(_describe(source, e) for e in exc.errors())) from None
-    except RecursionError:
-        raise InputError("nested too deeply to be a sweep file", file=source) from None
-    return LoadedSweep(sweep=sweep, source=source)
+    return LoadedSweep(sweep=validated(SweepFile, data, source, "a sweep file", _describe), source=source)
 
 
 # The keys of these fields are paths, case names or names: messages quote them ["..."].
@@ -437,50 +429,24 @@ _PATTERNS = {
 
 
 def _describe(source: Path, error: dict[str, Any]) -> str:
-    loc = _plain_loc(tuple(error["loc"]))
-    kind = error["type"]
-    msg = error["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
-    where = format_sweep_loc(loc)
-    if kind == "extra_forbidden":
-        owner = _owner(loc[:-1])
-        key = str(loc[-1])
-        text = f"unknown key {key!r}"
-        if owner is not None:
-            fields = list(owner.model_fields)
-            close = difflib.get_close_matches(key, fields, n=1, cutoff=0.6)
-            text += f"; did you mean {close[0]!r}?" if close else f"; valid keys: {', '.join(fields)}"
-            if owner in (SweepFile, Study) and ("." in key or "[" in key):
-                text += " (paths into the model go under parameters, cases or set)"
-        return f"{source}: {where}: {text}"
-    if kind == "missing":
-        text = "required field missing"
-    elif kind == "string_pattern_mismatch":
+    """A sweep file's error (describe_error), located without pydantic's own steps through
+    unions and validators, with the keys of tables keyed by paths and names quoted."""
+    return describe_error(source, {**error, "loc": _plain_loc(tuple(error["loc"]))}, SweepFile,
+                          where=format_sweep_loc, text_for=_text_for, unknown_key_note=_unknown_key_note)  # fmt: skip
+
+
+def _text_for(kind: str, loc: tuple[Any, ...]) -> str | None:
+    """A sweep file's own wording of an error kind."""
+    if kind == "string_pattern_mismatch":
         field = next((p for p in reversed(loc) if p in _PATTERNS), None)
-        text = _PATTERNS.get(field, FRIENDLIER[kind])
-    elif kind == "too_short":
-        text = "expected at least one value"
-    else:
-        text = FRIENDLIER.get(kind, msg)
-    value = error.get("input")
-    if kind != "missing" and "got " not in text and not isinstance(value, (dict, list)):
-        text += f"; got {value!r:.80}"
-    hint = _hint(loc)
-    if hint:
-        text += f" ({hint})"
-    return f"{source}: {where}: {text}"
+        return _PATTERNS.get(field, FRIENDLIER[kind])
+    if kind == "too_short":
+        return "expected at least one value"
+    return None
 
 
-def _owner(loc: tuple[Any, ...]) -> type[BaseModel] | None:
-    """The model class at `loc`, skipping the keys of keyed tables (paths, names)."""
-    return _model_at(SweepFile, loc)
-
-
-def _hint(loc: tuple[Any, ...]) -> str:
-    """First sentence of the description of the field at `loc`, if `loc` ends at a field
-    (not inside a table keyed by paths or names)."""
-    if not loc or not isinstance(loc[-1], str):
-        return ""
-    owner = _owner(loc[:-1])
-    if owner is None or loc[-1] not in owner.model_fields:
-        return ""
-    return _first_sentence(" ".join((owner.model_fields[loc[-1]].description or "").split()))
+def _unknown_key_note(owner: type[BaseModel], key: str) -> str:
+    """A model path written where a sweep's own keys go."""
+    if owner in (SweepFile, Study) and ("." in key or "[" in key):
+        return " (paths into the model go under parameters, cases or set)"
+    return ""
