@@ -75,22 +75,66 @@ def main_options(
 
 
 @app.command(
-    help="Check a model and print what it resolves to.\n\n"
-    "Per building: floor masses, periods and participating mass, Rayleigh coefficients and "
-    "its time-step limit; the contact candidates and their limit; the record; the time step, "
-    "which limit sets it and the steps the integrator will take. --json prints the same as one "
-    "JSON document."
+    help="Check an input file and print what it resolves to.\n\n"
+    "A model: per building, floor masses, periods and participating mass, Rayleigh "
+    "coefficients and its time-step limit; the contact candidates and their limit; the record; "
+    "the time step, which limit sets it and the steps the integrator will take. A record "
+    "definition (components L and T, no buildings): what `pound record` prints of it. A sweep "
+    "file (it names a base model): every case checked and listed, as `pound sweep --dry-run` "
+    "lists them. --json prints the same as one JSON document."
 )
-def validate(model: ModelArg, json_: JsonOpt = False) -> None:
-    """Check a model and print what it resolves to."""
-    from .api import describe
+def validate(
+    file: Annotated[Path, typer.Argument(help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
+    json_: JsonOpt = False,
+) -> None:
+    """Check a model, record definition or sweep file and print what it resolves to."""
+    from .model import read_document
+    from .model.load import document_kind
 
     with reported():
-        info = describe(model)
+        data = read_document(file)
+        kind = document_kind(data)
+        if kind == "record":
+            _validate_record(file, data, json_)
+        elif kind == "sweep":
+            _validate_sweep(file, data, json_)
+        else:
+            _validate_model(file, data, json_)
+
+
+def _validate_model(file: Path, data: dict[str, Any], json_: bool) -> None:
+    from .api import describe
+    from .model import validate_model
+
+    info = describe(validate_model(data, file))
     if json_:
         print(json.dumps(info, indent=2))
-        return
-    _print_description(info)
+    else:
+        _print_description(info)
+
+
+def _validate_record(file: Path, data: dict[str, Any], json_: bool) -> None:
+    from .model.record import validate_record
+    from .records.inspect import describe_definition
+    from .records.summary import summarise
+
+    summary = summarise(describe_definition(validate_record(data, file), file)).model_dump(mode="json")
+    if json_:
+        print(json.dumps(summary, indent=2, ensure_ascii=False))
+    else:
+        _print_record(summary)
+
+
+def _validate_sweep(file: Path, data: dict[str, Any], json_: bool) -> None:
+    from .model import validate_sweep
+    from .sweep import run_sweep
+    from .sweep.progress import print_cases
+
+    outcome = run_sweep(validate_sweep(data, file), dry_run=True)
+    if json_:
+        print(json.dumps([outcome.rows[i] for i in outcome.selected], indent=2, ensure_ascii=False))
+    else:
+        print_cases(out, outcome)
 
 
 @app.command(

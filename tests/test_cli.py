@@ -227,17 +227,41 @@ def test_every_field_has_a_description():
 
 @pytest.mark.parametrize("path", sorted(INPUTS.glob("*.toml")) + sorted(INPUTS.glob("*.json")), ids=lambda p: p.name)
 def test_every_shipped_input_validates(path, tmp_path):
+    """`pound validate` takes every shipped input, whatever it is: a record definition gives
+    what `pound record` gives, a sweep file the cases `pound sweep --dry-run` lists."""
     text = path.read_text()
     sweep = path.name.endswith((".sweep.toml", ".sweep.json"))
     if sweep:  # the record is named by the sweep's base model
         text += (path.parent / tomllib.loads(text)["base"]).read_text()
     if "shared/records" in text and not SHARED.exists():
         pytest.skip("the model reads a record kept in ../shared, which is absent")
-    command = ["record"] if path.name.endswith((".record.toml", ".record.json")) else ["validate"]
-    if sweep:  # a sweep file: every case checked, nothing run
-        command = ["sweep", "--dry-run", "--jobs", "1", "-o", str(tmp_path / "out")]
-    r = runner.invoke(app, [command[0], str(path), *command[1:]])  # a record definition is checked by `pound record`
+    r = runner.invoke(app, ["validate", str(path), "--json"])
     assert r.exit_code == 0, r.output
+    if path.name.endswith((".record.toml", ".record.json")):
+        same = runner.invoke(app, ["record", str(path), "--json"])
+        assert json.loads(r.stdout) == json.loads(same.stdout)
+    elif sweep:
+        same = runner.invoke(app, ["sweep", str(path), "--dry-run", "--json", "--jobs", "1"])
+        assert json.loads(r.stdout) == [json.loads(line) for line in same.stdout.splitlines()]
+    else:
+        assert json.loads(r.stdout)["file"] == str(path)
+
+
+@pytest.mark.parametrize(("name", "text", "expected"), [
+    ("bad.record.toml", 'name = "x"\n[L]\nfile = "{inputs}/records/ridgecrest2019_ccc.mseed"\nunits = "furlongs"\n',
+     r"bad\.record\.toml: L\.units: "),
+    ("bad.sweep.toml", 'base = "{inputs}/paper_pounding.toml"\nparameters = {{ "excitation.angel" = [0, 90] }}\n',
+     r"excitation\.angel"),
+])  # fmt: skip
+def test_validate_names_the_file_and_field_of_a_bad_record_or_sweep(tmp_path, name, text, expected):
+    """A record definition or sweep file in error: exit 2, the file and the field named, no
+    model's complaints about missing buildings."""
+    path = tmp_path / name
+    path.write_text(text.format(inputs=INPUTS.as_posix()))
+    r = runner.invoke(app, ["validate", str(path)])
+    assert r.exit_code == 2, r.output
+    assert re.search(expected, r.stderr), r.stderr
+    assert "buildings" not in r.stderr, r.stderr
 
 
 def test_output_paths(tmp_path):

@@ -90,6 +90,16 @@ def read_document(path: str | Path) -> dict[str, Any]:
     return data
 
 
+def document_kind(data: dict[str, Any]) -> str:
+    """What an input document is, by its top-level keys: "sweep" (it names a `base` model),
+    "record" (a record definition: components `L`/`T` and no buildings) or "model"."""
+    if "base" in data and "buildings" not in data:
+        return "sweep"
+    if ("L" in data or "T" in data) and "buildings" not in data:
+        return "record"
+    return "model"
+
+
 def load_model(path: str | Path) -> LoadedModel:
     """Read and validate a model file. Raises InputError naming the file and field."""
     path = Path(path)

@@ -20,7 +20,7 @@ from typing import Any, Literal
 import numpy as np
 
 from pounding_cli.errors import InputError, RecordReadError
-from pounding_cli.model.record import RECORD_SUFFIXES, load_record
+from pounding_cli.model.record import RECORD_SUFFIXES, Record, load_record
 from pounding_cli.records.combine import RecordOrigin, record_motion
 from pounding_cli.records.read import Accelerogram, read_accelerogram, read_accelerograms
 
@@ -84,7 +84,12 @@ def open_record(
 
 
 def _definition(path: Path) -> RecordData:
-    record = load_record(path)
+    return describe_definition(load_record(path), path)
+
+
+def describe_definition(record: Record, path: Path) -> RecordData:
+    """A validated record definition read from `path` (its files relative to it), ready to
+    describe: components after its processing and scaling."""
     motion = record_motion(record, RecordOrigin(path))
     components = [
         Component(name, motion.dt, values, motion.read[name], str(getattr(record, name).file),
