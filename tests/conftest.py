@@ -3,6 +3,11 @@
 from __future__ import annotations
 
 import copy
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +31,24 @@ def load_doc(doc: dict[str, Any]) -> LoadedModel:
     """Validate a model dict as if it were a file in inputs/ (so record paths resolve)."""
     return validate_model(doc, INPUTS / "test-model.toml")
 
+
+
+def sweep_then_kill(sweep: Path, out: Path, new_files: int) -> None:
+    """Run `pound sweep --jobs 2` in a subprocess and kill it with SIGKILL (its process group:
+    the workers too) once `new_files` more case files than before exist in `out`."""
+    before = len(list((out / "cases").glob("*.h5")))
+    proc = subprocess.Popen([sys.executable, "-m", "pounding_cli", "sweep", str(sweep), "-o", str(out), "--jobs", "2"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
+    try:
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and proc.poll() is None:
+            if len(list((out / "cases").glob("*.h5"))) >= before + new_files:
+                break
+            time.sleep(0.02)
+        assert proc.poll() is None, f"the sweep ended before it could be killed: {proc.stderr.read().decode()}"
+        os.killpg(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=60)
 
 def square_building(
     name: str = "b",

@@ -6,11 +6,6 @@ from __future__ import annotations
 
 import csv
 import json
-import os
-import signal
-import subprocess
-import sys
-import time
 
 import h5py
 import jsonschema
@@ -26,7 +21,7 @@ from pounding_cli.report.sweep_document import sweep_summary
 from pounding_cli.report.sweep_lines import parameter_figure
 from pounding_cli.sweep import read_summary, run_sweep
 
-from conftest import INPUTS, ROOT
+from conftest import INPUTS, ROOT, sweep_then_kill
 
 runner = CliRunner()
 WIDE = {"COLUMNS": "250"}
@@ -259,24 +254,6 @@ parameters = { "excitation.angle" = ANGLES }
 """
 
 
-def _sweep_then_kill(sweep, out, new_files):
-    """Run `pound sweep` in a subprocess and kill it with SIGKILL (its process group: the
-    workers too) once `new_files` more case files than before exist."""
-    before = len(list((out / "cases").glob("*.h5")))
-    proc = subprocess.Popen([sys.executable, "-m", "pounding_cli", "sweep", str(sweep), "-o", str(out), "--jobs", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
-    try:
-        deadline = time.monotonic() + 240
-        while time.monotonic() < deadline and proc.poll() is None:
-            if len(list((out / "cases").glob("*.h5"))) >= before + new_files:
-                break
-            time.sleep(0.02)
-        assert proc.poll() is None, f"the sweep ended before it could be killed: {proc.stderr.read().decode()}"
-        os.killpg(proc.pid, signal.SIGKILL)
-    finally:
-        proc.wait(timeout=60)
-
-
 def _report_of_killed(out, sweep):
     """The report's document and its first line, checked against what the folder holds: the
     statuses `pound sweep --dry-run` gives, and the rows of read_summary; nothing written."""
@@ -311,14 +288,14 @@ def test_report_of_a_killed_sweep_reads_the_case_files(tmp_path):
                          + KILLED.replace("ANGLES", json.dumps(angles)), encoding="utf-8")  # fmt: skip
 
     write([0, 30, 60, 90])
-    _sweep_then_kill(sweep, out, 1)
+    sweep_then_kill(sweep, out, 1)
     assert not (out / "summary.h5").exists()
     doc = _report_of_killed(out, sweep)
     assert doc["counts"]["cases"] == 4 and doc["counts"]["pending"] >= 1
 
     assert run_sweep(sweep, out, jobs=2).ok  # completes the 4 and writes their summary
     write([0, 30, 60, 90, 15, 45, 75, 105])
-    _sweep_then_kill(sweep, out, 1)
+    sweep_then_kill(sweep, out, 1)
     with h5py.File(out / "summary.h5") as f:
         assert f["cases"].shape == (4,) and f.attrs["complete"] == 4, "the killed sweep left the old summary"
     doc = _report_of_killed(out, sweep)

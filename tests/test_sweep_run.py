@@ -29,7 +29,7 @@ from pounding_cli.sweep import plan_sweep, read_summary, rebuild_summary, run_sw
 from pounding_cli.sweep.pool import LocalPool
 from pounding_cli.sweep.store import OutputFolder
 
-from conftest import INPUTS, SHARED
+from conftest import INPUTS, SHARED, sweep_then_kill
 
 SMALL = INPUTS / "pounding_angle_gap.sweep.toml"
 BASE = INPUTS / "paper_pounding.toml"
@@ -220,18 +220,7 @@ def test_kill_9_mid_sweep_loses_no_completed_case(tmp_path):
     sweep = write_sweep(tmp_path, 'set = { "analysis.integrator" = "cdm", "analysis.duration" = 12.0 }\n'
                         'parameters = { "excitation.angle" = [0, 15, 30, 45, 60, 75, 90, 105] }\n')  # fmt: skip
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "pounding_cli", "sweep", str(sweep), "-o", str(out), "--jobs", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)  # fmt: skip
-    try:
-        deadline = time.monotonic() + 240
-        while time.monotonic() < deadline and proc.poll() is None:
-            if len(list((out / "cases").glob("*.h5"))) >= 2:
-                break
-            time.sleep(0.02)
-        assert proc.poll() is None, f"the sweep ended before it could be killed: {proc.stderr.read().decode()}"
-        os.killpg(proc.pid, signal.SIGKILL)
-    finally:
-        proc.wait(timeout=60)
+    sweep_then_kill(sweep, out, 2)
     plan = plan_sweep(sweep)
     done = sorted(p.name for p in (out / "cases").glob("*.h5"))
     assert 2 <= len(done) < 8, done
