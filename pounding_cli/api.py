@@ -327,6 +327,7 @@ def execute(
         "substep": grid.dt * grid.substep,
         "yield_dt": grid.yield_dt,
         "exact_substeps": response.exact_substeps,
+        "exact_steps_of_dt": response.exact_steps_of_dt,
         "cdm_steps": response.cdm_steps,
         "switches": response.switches,
         "dt_auto": loaded.model.analysis.dt == "auto",

@@ -641,7 +641,7 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
 def _print_summary(s: dict[str, Any]) -> None:
     out.print(f"[bold]{escape(s['status'])}[/bold]  →  {escape(str(s['output']))}")
     if s["integrator"] == "hybrid":
-        how = (f"hybrid: {s['exact_substeps']:,} exact substeps of {s['substep_s']:.4g} s, "
+        how = (f"hybrid: {s['exact_substeps']:,} exact steps of ≤ {s['substep_s']:.4g} s, "
                f"{s['cdm_steps']:,} CDM steps of {s['dt_s']:.4g} s")  # fmt: skip
     else:
         how = f"{s['integrator']}, Δt = {s['dt_s']:.4g} s"

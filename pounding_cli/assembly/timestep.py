@@ -12,9 +12,12 @@ contact is possible: h divides the record's sample interval (so the ground accel
 linear within it) and is short enough to sample peaks well, ω_max,structure·h ≤
 HYBRID_SAMPLING; around contacts it runs the CDM at Δt = h/sub. Where only yielding members
 need the CDM (no contact possible), the contact does not limit the step: the CDM runs at
-h/sub_y, the same fraction of the structure's own limit (sub_y ≤ sub). Everything is
-expressed in CDM steps at the contact step: n_steps and stride are multiples of `substep`
-(= sub).
+h/sub_y, the same fraction of the structure's own limit (sub_y ≤ sub). Toward a contact
+the hybrid halves its exact step down to h/2^L (its approach levels, solver/integrate.py:
+approach_levels): with `dt = "auto"` and contact possible, sub is rounded up to a multiple
+of 2^L (L the largest with sub/2^L ≥ APPROACH_MIN_STEPS), a step at most 1/8 finer.
+Everything is expressed in CDM steps at the contact step: n_steps and stride are multiples
+of `substep` (= sub).
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from typing import Literal
 
 from ..errors import InputError
 from ..model import Analysis
+from ..solver.integrate import APPROACH_MIN_STEPS
 
 AUTO_DT_FRACTION = 0.05
 """Δt_auto = AUTO_DT_FRACTION · 2/ω_max for linear buildings without contact: the CDM's
@@ -136,6 +140,9 @@ def time_grid(
     if hybrid and record_dt is not None:
         h, stride_h = _substeps(record_dt, out, sampling / omega_max)
         sub = max(1, math.ceil(h / target - 1e-9))
+        if omega_contact > 0 and analysis.dt == "auto":  # room for the approach levels (solver.integrate.approach_levels)
+            power = 2 ** max(0, int(math.log2(sub / APPROACH_MIN_STEPS)))
+            sub = power * math.ceil(sub / power)
         dt = h / sub
         stride = stride_h * sub
         # yielding without contact: the structure's own limit (a given Δt holds everywhere)

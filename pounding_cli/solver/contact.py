@@ -327,3 +327,99 @@ def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
             continue
         return True
     return False
+
+
+@kernel(inline="always")
+def _turn_reach(body, v, acc, horizon, body_floor, body_radius):
+    """How far turning can move a point of a body's outline within `horizon` s, beyond its mass
+    centre's motion: |θ̇|·ρ·H + ½·(|θ̈| + θ̇²)·ρ·H² at its bounding radius ρ, m."""
+    f = body_floor[body]
+    if f < 0:
+        return 0.0
+    w = v[3 * f + 2]
+    return body_radius[body] * (abs(w) * horizon + 0.5 * (abs(acc[3 * f + 2]) + w * w) * horizon * horizon)
+
+
+@kernel(inline="always")
+def _pair_closing(a, b, v, acc, horizon, body_floor, body_radius):
+    """How much the outlines of bodies a and b can close within `horizon` s, m: their mass
+    centres' relative speed and acceleration (the ground's, common to both, cancels; an
+    obstacle moves with the ground) and what each one's turning adds (_turn_reach)."""
+    fa = body_floor[a]
+    fb = body_floor[b]
+    dvx = (v[3 * fb] if fb >= 0 else 0.0) - (v[3 * fa] if fa >= 0 else 0.0)
+    dvy = (v[3 * fb + 1] if fb >= 0 else 0.0) - (v[3 * fa + 1] if fa >= 0 else 0.0)
+    dax = (acc[3 * fb] if fb >= 0 else 0.0) - (acc[3 * fa] if fa >= 0 else 0.0)
+    day = (acc[3 * fb + 1] if fb >= 0 else 0.0) - (acc[3 * fa + 1] if fa >= 0 else 0.0)
+    move = np.sqrt(dvx * dvx + dvy * dvy) * horizon + 0.5 * np.sqrt(dax * dax + day * day) * horizon * horizon
+    return move + _turn_reach(a, v, acc, horizon, body_floor, body_radius) + _turn_reach(
+        b, v, acc, horizon, body_floor, body_radius)
+
+
+@kernel(inline="always")
+def _separation_along_edges(p, n_p, q, n_q):
+    """The largest gap between the projections of outlines p and q on the normals of p's
+    edges (≤ 0 when these axes do not separate them), m."""
+    best = -np.inf
+    for i in range(n_p):
+        j = i + 1 if i + 1 < n_p else 0
+        ex = p[j, 0] - p[i, 0]
+        ey = p[j, 1] - p[i, 1]
+        length = np.sqrt(ex * ex + ey * ey)
+        if length == 0.0:
+            continue
+        nx = ey / length
+        ny = -ex / length
+        lo_p = np.inf
+        hi_p = -np.inf
+        for k in range(n_p):
+            d = p[k, 0] * nx + p[k, 1] * ny
+            lo_p = min(lo_p, d)
+            hi_p = max(hi_p, d)
+        lo_q = np.inf
+        hi_q = -np.inf
+        for k in range(n_q):
+            d = q[k, 0] * nx + q[k, 1] * ny
+            lo_q = min(lo_q, d)
+            hi_q = max(hi_q, d)
+        best = max(best, lo_q - hi_p, lo_p - hi_q)
+    return best
+
+
+CLOSING_SAFETY = 2.0
+"""contact_ruled_out_within doubles what two outlines can close (_pair_closing): it takes
+the accelerations of the instant as bounds, and they change within the horizon."""
+
+
+@kernel
+def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a, poly_b):
+    """True when no pair can touch within `horizon` s: for every pair whose widened bounding
+    boxes may meet (contact_possible_within), the gap between the displaced outlines (a lower
+    bound by separating axes: the largest gap between their projections on any edge normal)
+    exceeds CLOSING_SAFETY × what they can close in that time (_pair_closing). Tighter
+    than the boxes, which widen by |θ|·ρ for a turned outline: the hybrid's approach levels
+    use it to step exactly up to a few CDM steps before an impact."""
+    if not contact_possible_within(horizon, u, v, acc, geometry, params, broad):
+        return True
+    body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
+    pair_a = params[0]
+    pair_b = params[1]
+    for p in range(pair_a.size):
+        a = pair_a[p]
+        b = pair_b[p]
+        closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
+        ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
+        bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
+        if (body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br
+                or body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar
+                or body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br
+                or body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar):  # fmt: skip
+            continue
+        _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
+        _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
+        n_a = body_nv[a]
+        n_b = body_nv[b]
+        gap = max(_separation_along_edges(poly_a, n_a, poly_b, n_b), _separation_along_edges(poly_b, n_b, poly_a, n_a))
+        if not gap > closing:  # (NaN: possible)
+            return False
+    return True

@@ -5,9 +5,11 @@ While every pair of bodies is apart by more than it can close within the horizon
 buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
 interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
 error, only the sampling of peaks every h. When a contact may begin within 2h (bounding
-boxes widened by what velocity and acceleration can add), the loop hands the state to the
-CDM of cdm.py at the contact time step Δt = h/sub; it takes the state back at a substep
-boundary once every pair is out of contact and apart by more than 4h of motion.
+boxes widened by what velocity and acceleration can add), the exact propagation goes on in
+steps of h/2, h/4, … h/2^L (the approach levels), halving while the outlines could touch
+within two steps (contact.contact_ruled_out_within), and hands the state to the CDM of
+cdm.py at the contact time step Δt = h/sub only at the finest level; the CDM hands it back
+at the first h/2^L at which every pair is out of contact and cannot touch within 4·h/2^L.
 
 Yielding members need the CDM too (their stiffness changes), but not the contact's step:
 when a member may yield within 2h and no contact is possible, the CDM runs at the yielding
@@ -44,17 +46,20 @@ from .cdm import (
     write_output,
 )
 from .broad_phase import BR_N_LIVE
-from .contact import contact_possible_within
+from .contact import contact_possible_within, contact_ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
 
-MODE_EXACT, MODE_CDM, MODE_CDM_YIELD = 0, 1, 2  # exact; CDM at the contact step; CDM at the yielding step
+# exact (substeps of h); CDM at the contact step; CDM at the yielding step; exact in finer steps
+# toward a contact that may begin within the substep
+MODE_EXACT, MODE_CDM, MODE_CDM_YIELD, MODE_APPROACH = 0, 1, 2, 3
 ENTER_HORIZON = 2.0  # substeps ahead a contact must be ruled out to stay exact
 LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
-# counters: exact substeps, CDM steps, hand-overs, and the step (in CDM steps) whose state
-# failed the divergence check (−1 while none has)
-CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP = range(4)
-N_COUNTERS = 4
+# counters: exact steps (substeps and the approach's shorter ones), CDM steps, hand-overs, the
+# step (in CDM steps) whose state failed the divergence check (−1 while none has), and the
+# time propagated exactly, in CDM steps
+CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN = range(5)
+N_COUNTERS = 5
 
 
 @kernel
@@ -72,6 +77,28 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bott
         a_rel[d] = a_abs[d] - agx
         a_rel[d + 1] = a_abs[d + 1] - agy
         a_rel[d + 2] = a_abs[d + 2]
+    return agx, agy
+
+
+@kernel
+def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground, ground_dt,
+                g, acc, storey_axes, centre, col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp,
+                peak_acc):  # fmt: skip
+    """Everything the exact propagation owes the state (u, v) it reached at t: forces and
+    accelerations (exact_state), the energy account over the `gap` s since the last state
+    accounted for (trapezoidal), the peaks. Returns the ground acceleration (X, Y) at t."""
+    agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
+                           ground_dt, g)  # fmt: skip
+    n_dof = mass.size
+    p_in = 0.0
+    p_damp = 0.0
+    for d in range(0, n_dof, 3):
+        p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
+    for d in range(n_dof):
+        p_damp += v[d] * cv[d]
+    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
+    update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
+                 peak_rot, peak_disp, peak_acc)  # fmt: skip
     return agx, agy
 
 
@@ -99,10 +126,36 @@ def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, 
 
 
 @kernel
+def propagate_elastic(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y, has_members, u_static):
+    """propagate() about the static offset u_static of the members' plastic deflections."""
+    if has_members:
+        for d in range(u_static.size):
+            u[d] -= u_static[d]
+    propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y)
+    if has_members:
+        for d in range(u_static.size):
+            u[d] += u_static[d]
+
+
+@kernel
+def _enter_cdm(step, u, v_exact, a_rel, v_half, dv, storey_k, bottom, top, z, mass, damping, cv_half, acc):
+    """Hand the exact state at an instant already accounted for to the CDM at `step`:
+    v_{−½} = v − (Δt/2)·a (no contact force: none is possible yet), C·v_{−½}."""
+    n_dof = mass.size
+    for d in range(n_dof):
+        v_half[d] = v_exact[d] - 0.5 * step * a_rel[d]
+        dv[d] = step * a_rel[d]
+    storey_matvec(v_half, storey_k, bottom, top, z)
+    damping_force(v_half, z, mass, damping, n_dof, cv_half)
+    acc[ACC_FRESH] = 1.0  # the instant is already integrated
+
+
+@kernel
 def hybrid_advance(
     k_start, k_stop, k_end, h, sub, sub_y, binv_y, stride_h, u_limit,
-    # exact propagation (kinv: K⁻¹ blocks, u_static: K⁻¹·g while the members stay elastic)
-    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static,
+    # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
+    # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s
+    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap,
     # everything cdm.advance takes after its first five arguments
     mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -121,15 +174,26 @@ def hybrid_advance(
     The CDM takes sub steps per substep around contacts, sub_y (with the step matrices
     binv_y) where only yielding members need it.
 
+    Approach levels (phi.shape[0] = L + 1 > 1): when a contact may begin within 2h, the exact
+    propagation goes on in steps of h/2, h/4, … h/2^L, halving while a contact may begin
+    within two steps, and hands over to the CDM only at the finest level (h/2^L, sub/2^L
+    CDM steps); the CDM checks every sub/2^L steps whether every contact has ended and none
+    can begin within 4·h/2^L, and hands back there. So the CDM runs only around the impacts
+    themselves, not for the whole substeps in which one may happen.
+
     Yielding members: exact propagation holds while they are elastic, about the static
     offset u_static = K⁻¹·g of their plastic deflections (M·ẅ + C·ẇ + K·w = p for
     w = u − u_static); the CDM takes over while any member may reach its yield surface
-    within the horizon, as around contacts."""
+    within the horizon, as around contacts (at substep boundaries, at the yielding step)."""
     dt = h / sub
     dt_y = h / sub_y
     n_dof = mass.size
     has_pairs = params[0].size > 0
     has_members = plastic.shape[0] > 0
+    levels = phi.shape[0] - 1
+    fine = 1 << levels  # finest exact steps per substep
+    q = sub // fine  # CDM steps per finest exact step
+    h_fine = h / fine
     for k in range(k_start, k_stop):
         t = k * h
         if mode[0] == MODE_EXACT:
@@ -138,17 +202,9 @@ def hybrid_advance(
             if has_members:  # elastic unless the last substep overshot the yield surface
                 dissipated, yielded = update_members(u, members, plastic, g)
                 acc[ACC_HYSTERETIC] += dissipated
-            agx, agy = exact_state(t, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
-                                   storey_bottom, storey_top, ground, ground_dt, g)  # fmt: skip
-            p_in = 0.0
-            p_damp = 0.0
-            for d in range(0, n_dof, 3):
-                p_in -= mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
-            for d in range(n_dof):
-                p_damp += v_exact[d] * cv_next[d]
-            accumulate_energy(acc, h, p_in, p_damp, 0.0)
-            update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                         col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+            agx, agy = exact_point(t, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
+                                   storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
+                                   col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
             e_plastic = 0.0
             if has_members:
                 member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
@@ -164,19 +220,14 @@ def hybrid_advance(
                 return STATUS_OK, k + 1
             contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
                                                                  params, broad)  # fmt: skip
-            if not (
-                contact_soon
-                or (has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
-                                                                          members, plastic)))  # fmt: skip
-            ):
-                if has_members:
-                    for d in range(n_dof):
-                        u[d] -= u_static[d]
-                propagate(t, h, u, v_exact, phi, g0, g1, dof_start, dof_count, ground, ground_dt, xbuf, ybuf)
-                if has_members:
-                    for d in range(n_dof):
-                        u[d] += u_static[d]
+            may_yield = has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
+                                                                              members, plastic))  # fmt: skip
+            if not (contact_soon or may_yield):
+                propagate_elastic(t, h, u, v_exact, phi[0], g0[0], g1[0], dof_start, dof_count, ground, ground_dt,
+                                  xbuf, ybuf, has_members, u_static)  # fmt: skip
+                gap[0] = h
                 counters[CNT_EXACT] += 1
+                counters[CNT_EXACT_SPAN] += sub
                 # a bad value stops the run at the substep that made it (a non-finite velocity
                 # makes the displacement non-finite within the same substep: propagate mixes them)
                 for d in range(n_dof):
@@ -184,56 +235,138 @@ def hybrid_advance(
                         counters[CNT_FAILED_STEP] = (k + 1) * sub
                         return STATUS_DIVERGED, k + 1
                 continue
-            # a contact may begin soon, or a member yield: hand the state to the CDM at t_k
-            mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
-            step = dt if contact_soon else dt_y
+            if contact_soon and levels > 0 and not may_yield:
+                mode[0] = MODE_APPROACH  # finer exact steps first
+            else:  # hand the state to the CDM at t_k: at the contact step, or at the yielding step
+                mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
+                _enter_cdm(dt if contact_soon else dt_y, u, v_exact, a_rel, v_half, dv, storey_k, storey_bottom,
+                           storey_top, z, mass, damping, cv_half, acc)  # fmt: skip
+                counters[CNT_SWITCHES] += 1
+        if mode[0] == MODE_CDM_YIELD or levels == 0 or k == k_end:
+            # CDM through the whole substep, at the contact step or at the yielding step
+            if mode[0] == MODE_CDM:
+                step, steps, step_matrix = dt, sub, binv
+            else:
+                step, steps, step_matrix = dt_y, sub_y, binv_y
+            last = k * steps + 1 if k == k_end else (k + 1) * steps  # at the end: the state at t_k only
+            status, failed_at = advance(k * steps, last, step, stride_h * steps, u_limit,
+                                mass, damping, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
+                                ground, ground_dt, storey_axes, centre, col_storey, col_arm,
+                                u, v_half, ku, cv_half, acc,
+                                peak_col, peak_rot, peak_disp, peak_acc,
+                                out_u, out_v, out_a, out_ground, out_energy, out_contact,
+                                r, dv, v, a_abs, z, cv_next, storey_work,
+                                geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
+                                members, plastic, g, out_member, peak_member)  # fmt: skip
+            if status != STATUS_OK:
+                counters[CNT_FAILED_STEP] = failed_at * sub // steps  # in contact steps
+                return status, k
+            if k == k_end:
+                return STATUS_OK, k + 1
+            counters[CNT_CDM] += steps
             for d in range(n_dof):
-                v_half[d] = v_exact[d] - 0.5 * step * a_rel[d]
-                dv[d] = step * a_rel[d]
-            storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
-            damping_force(v_half, z, mass, damping, n_dof, cv_half)
-            acc[ACC_FRESH] = 1.0  # t_k is already integrated
+                a_rel[d] = dv[d] / step  # the CDM's acceleration at the last step
+            if mode[0] == MODE_CDM:  # leave once no contact is possible; the exact branch then decides
+                leave = broad[BR_N_LIVE][0] == 0 and not contact_possible_within(  # (contact_forces counts live pairs)
+                    LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params, broad)  # fmt: skip
+            else:  # leave when a contact may begin (to come back at the contact step) or nothing can yield
+                leave = (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_half, a_rel, geometry,
+                                                               params, broad)) or not yield_possible_within(  # fmt: skip
+                    LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic)
+            if leave:
+                _leave_cdm_exact((k + 1) * h, step, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping,
+                                 storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count, ground,
+                                 ground_dt, acc, cv_next, g, has_members, members, plastic, kinv, u_static)  # fmt: skip
+                mode[0] = MODE_EXACT
+                counters[CNT_SWITCHES] += 1
+            continue
+        # within the substep, finest step by finest step: approach by exact steps, or the CDM
+        pos = 0  # finest exact steps done in this substep
+        level = 1
+        while pos < fine:
+            t_pos = t + pos * h_fine
+            if mode[0] == MODE_APPROACH:
+                size = fine >> level
+                if not contact_ruled_out_within(ENTER_HORIZON * size * h_fine, u, v_exact, a_rel, geometry, params,
+                                                broad, cbuf[0], cbuf[1]):  # fmt: skip
+                    if level < levels:
+                        level += 1
+                        continue
+                    mode[0] = MODE_CDM
+                    _enter_cdm(dt, u, v_exact, a_rel, v_half, dv, storey_k, storey_bottom, storey_top, z, mass,
+                               damping, cv_half, acc)  # fmt: skip
+                    counters[CNT_SWITCHES] += 1
+                    continue
+                propagate_elastic(t_pos, size * h_fine, u, v_exact, phi[level], g0[level], g1[level], dof_start,
+                                  dof_count, ground, ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                counters[CNT_EXACT] += 1
+                counters[CNT_EXACT_SPAN] += size * q
+                pos += size
+                gap[0] = size * h_fine
+                for d in range(n_dof):
+                    if not abs(u[d]) <= u_limit:
+                        counters[CNT_FAILED_STEP] = k * sub + pos * q
+                        return STATUS_DIVERGED, k + 1
+                if pos == fine:
+                    mode[0] = MODE_EXACT  # the state at t_{k+1} is the exact branch's
+                    break
+                exact_point(t + pos * h_fine, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping,
+                            storey_k, storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
+                            col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+                if level > 1 and pos % (2 * size) == 0:
+                    level -= 1  # try the coarser step: the next pass checks it
+                continue
+            # MODE_CDM: the next finest step's worth of CDM steps
+            n0 = k * sub + pos * q
+            status, failed_at = advance(n0, n0 + q, dt, stride_h * sub, u_limit,
+                                mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
+                                ground, ground_dt, storey_axes, centre, col_storey, col_arm,
+                                u, v_half, ku, cv_half, acc,
+                                peak_col, peak_rot, peak_disp, peak_acc,
+                                out_u, out_v, out_a, out_ground, out_energy, out_contact,
+                                r, dv, v, a_abs, z, cv_next, storey_work,
+                                geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
+                                members, plastic, g, out_member, peak_member)  # fmt: skip
+            if status != STATUS_OK:
+                counters[CNT_FAILED_STEP] = failed_at
+                return status, k
+            counters[CNT_CDM] += q
+            pos += 1
+            for d in range(n_dof):
+                a_rel[d] = dv[d] / dt  # the CDM's acceleration at the last step
+            if broad[BR_N_LIVE][0] > 0 or not contact_ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel,
+                                                                       geometry, params, broad, cbuf[0], cbuf[1]):  # fmt: skip
+                continue
+            if pos < fine and has_members and yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, members,
+                                                                    plastic):  # fmt: skip
+                continue  # members may yield: the exact branch decides at the substep's end
+            t_pos = t + pos * h_fine
+            _leave_cdm_exact(t_pos, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping, storey_k,
+                             storey_bottom, storey_top, binv, dof_start, dof_count, ground, ground_dt, acc, cv_next,
+                             g, has_members, members, plastic, kinv, u_static)  # fmt: skip
             counters[CNT_SWITCHES] += 1
-        # CDM through this substep, at the contact step or at the yielding step
-        if mode[0] == MODE_CDM:
-            step, steps, step_matrix = dt, sub, binv
-        else:
-            step, steps, step_matrix = dt_y, sub_y, binv_y
-        last = k * steps + 1 if k == k_end else (k + 1) * steps  # at the end: the state at t_k only
-        status, failed_at = advance(k * steps, last, step, stride_h * steps, u_limit,
-                            mass, damping, storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count,
-                            ground, ground_dt, storey_axes, centre, col_storey, col_arm,
-                            u, v_half, ku, cv_half, acc,
-                            peak_col, peak_rot, peak_disp, peak_acc,
-                            out_u, out_v, out_a, out_ground, out_energy, out_contact,
-                            r, dv, v, a_abs, z, cv_next, storey_work,
-                            geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
-                            members, plastic, g, out_member, peak_member)  # fmt: skip
-        if status != STATUS_OK:
-            counters[CNT_FAILED_STEP] = failed_at * sub // steps  # in contact steps
-            return status, k
-        if k == k_end:
-            return STATUS_OK, k + 1
-        counters[CNT_CDM] += steps
-        for d in range(n_dof):
-            a_rel[d] = dv[d] / step  # the CDM's acceleration at the last step
-        if mode[0] == MODE_CDM:  # leave once no contact is possible; the exact branch then decides
-            leave = broad[BR_N_LIVE][0] == 0 and not contact_possible_within(  # (contact_forces counts live pairs)
-                LEAVE_HORIZON * h, u, v_half, a_rel, geometry, params, broad)  # fmt: skip
-        else:  # leave when a contact may begin (to come back at the contact step) or nothing can yield
-            leave = (has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_half, a_rel, geometry, params,
-                                                           broad)) or not yield_possible_within(  # fmt: skip
-                LEAVE_HORIZON * h, u, v_half, a_rel, members, plastic)
-        if leave:
-            if has_members:
-                plastic_correction(members, plastic, g)
-                solve_blocks(kinv, dof_start, dof_count, g, u_static)
-            _leave_cdm((k + 1) * h, step, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping,
-                       storey_k, storey_bottom, storey_top, step_matrix, dof_start, dof_count, ground, ground_dt,
-                       acc, cv_next, g)  # fmt: skip
-            mode[0] = MODE_EXACT
-            counters[CNT_SWITCHES] += 1
+            if pos == fine:
+                mode[0] = MODE_EXACT
+                break
+            mode[0] = MODE_APPROACH
+            level = levels
+            exact_point(t_pos, 0.0, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
+                        storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre, col_storey,
+                        col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
     return STATUS_OK, k_stop
+
+
+@kernel
+def _leave_cdm_exact(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping, storey_k, bottom, top, binv,
+                     dof_start, dof_count, ground, ground_dt, acc, cv, g, has_members, members, plastic, kinv,
+                     u_static):  # fmt: skip
+    """Hand the CDM's state at t back to the exact propagation (_leave_cdm), with the members'
+    static offset u_static = K⁻¹·g for their plastic deflections."""
+    if has_members:
+        plastic_correction(members, plastic, g)
+        solve_blocks(kinv, dof_start, dof_count, g, u_static)
+    _leave_cdm(t, dt, u, v_half, ku, cv_half, v_exact, kv, r, dv, mass, damping, storey_k, bottom, top, binv,
+               dof_start, dof_count, ground, ground_dt, acc, cv, g)  # fmt: skip
 
 
 @kernel

@@ -154,7 +154,8 @@ class Response:
     status: str  # "complete" or "failed: …"
     compile_time: float = 0.0  # s, compiling or loading the kernel (first call in a process)
     integrator: str = "cdm"  # "cdm", or "hybrid" (exact propagation, CDM around contacts)
-    exact_substeps: int = 0  # hybrid: substeps taken by exact propagation
+    exact_substeps: int = 0  # hybrid: steps taken by exact propagation (substeps, and shorter ones toward impacts)
+    exact_steps_of_dt: int = 0  # hybrid: the time propagated exactly, in steps of dt
     cdm_steps: int = 0  # steps taken by the CDM
     switches: int = 0  # hybrid: hand-overs between the two
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
@@ -356,14 +357,18 @@ def simulate(
             raise ValueError("n_steps and stride must be multiples of substep")
         h = substep * dt
         blocks = stiffness_blocks(structure)
-        phi, g0, g1 = building_propagators(blocks, damping_blocks(structure), structure.mass, starts, counts, h)
+        levels = approach_levels(substep, int(counts.max()), starts.size) if n_pairs else 0
+        damping_dense = damping_blocks(structure)
+        phi, g0, g1 = (np.stack(m) for m in zip(*(
+            building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**j)
+            for j in range(levels + 1))))  # fmt: skip
         kinv = inverse_blocks(blocks, counts) if n_members else kinv
         sub_y = yield_substep if 0 < yield_substep < substep else substep
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
-                      np.zeros(2 * phi.shape[1]), np.zeros(2 * phi.shape[1]), np.zeros(1, dtype=np.int64), counters,
-                      kinv, np.zeros(n_dof + 3))  # fmt: skip
+                      np.zeros(phi.shape[2]), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
+                      kinv, np.zeros(n_dof + 3), np.full(1, h))  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
@@ -441,6 +446,7 @@ def simulate(
         compile_time=compile_time,
         integrator="hybrid" if substep > 0 else "cdm",
         exact_substeps=int(counters[hybrid.CNT_EXACT]),
+        exact_steps_of_dt=int(counters[hybrid.CNT_EXACT_SPAN]),
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
         failure_dof=_failure_dof(u[:n_dof], v_half[:n_dof]) if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
@@ -449,6 +455,25 @@ def simulate(
         peak_member=peak_member if n_members else None,
         residual_member=residual_deflections(structure, plastic, members) if n_members else None,
     )
+
+
+APPROACH_MIN_STEPS = 8
+"""The hybrid's finest exact step toward a contact spans at least this many CDM steps."""
+
+APPROACH_MEMORY = 64 * 2**20
+"""The propagators of all approach levels together take at most this many bytes."""
+
+
+def approach_levels(substep: int, n_max: int, n_buildings: int) -> int:
+    """How many times the hybrid may halve its exact step toward a contact: the largest L
+    with substep a multiple of 2^L, substep/2^L ≥ APPROACH_MIN_STEPS CDM steps, and the
+    L + 1 sets of propagators (n_buildings × (2·n_max)² each) within APPROACH_MEMORY."""
+    per_level = 8 * n_buildings * (2 * n_max) ** 2
+    levels = 0
+    while (substep % 2 ** (levels + 1) == 0 and substep // 2 ** (levels + 1) >= APPROACH_MIN_STEPS
+           and (levels + 2) * per_level <= APPROACH_MEMORY):  # fmt: skip
+        levels += 1
+    return levels
 
 
 def inverse_blocks(blocks: list[np.ndarray], counts: np.ndarray) -> np.ndarray:
