@@ -224,6 +224,27 @@ def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
     return False
 
 
+@kernel
+def pairs_may_meet_within(horizon, u, v, acc, geometry, broad):
+    """The pairs whose boxes, each widened by how far its body can move within `horizon` s,
+    overlap, into broad's `hits` (sweep and prune, by group); returns their number, or −1 for
+    a state with NaN (no order to sweep)."""
+    body_floor = geometry[2]
+    body_radius = geometry[4]
+    body_box = geometry[5]
+    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
+    n_hits = 0
+    for g in range(group_axis.size):
+        start = group_start[g]
+        stop = group_start[g + 1]
+        if not _widened_bounds(start, stop, group_axis[g], horizon, u, v, acc, group_body, body_floor, body_radius,
+                               body_box, bounds):  # fmt: skip
+            return -1
+        _sort_by_lower_bound(start, stop, order, bounds)
+        n_hits = _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, False)
+    return n_hits
+
+
 def pair_groups(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray) -> list[list[int]]:
     """Candidate pairs grouped by level: floors joined through floor–floor pairs form one group
     (connected components), and a floor–obstacle pair joins its floor's group. Returns the pair

@@ -37,6 +37,7 @@ from .broad_phase import (
     BR_LIVE,
     BR_N_LIVE,
     boxes_may_meet_within,
+    pairs_may_meet_within,
     pairs_to_visit,
     reach,
     reach_over,
@@ -394,27 +395,35 @@ the accelerations of the instant as bounds, and they change within the horizon."
 @kernel
 def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a, poly_b):
     """True when no pair can touch within `horizon` s: for every pair whose widened bounding
-    boxes may meet (contact_possible_within), the gap between the displaced outlines (a lower
-    bound by separating axes: the largest gap between their projections on any edge normal)
-    exceeds CLOSING_SAFETY × what they can close in that time (_pair_closing). Tighter
-    than the boxes, which widen by |θ|·ρ for a turned outline: the hybrid's approach levels
-    use it to step exactly up to a few CDM steps before an impact."""
-    if not contact_possible_within(horizon, u, v, acc, geometry, params, broad):
-        return True
+    boxes may meet (as contact_possible_within finds them), the gap between the displaced
+    outlines (a lower bound by separating axes: the largest gap between their projections on
+    any edge normal) exceeds CLOSING_SAFETY × what they can close in that time
+    (_pair_closing). Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
+    hybrid's approach levels use it to step exactly up to a few CDM steps before an impact."""
     body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
     pair_a = params[0]
     pair_b = params[1]
-    for p in range(pair_a.size):
+    sweeping = broad[BR_GROUP_AXIS].size > 0
+    if sweeping:
+        candidates = pairs_may_meet_within(horizon, u, v, acc, geometry, broad)
+        if candidates < 0:
+            return False  # a state gone bad: the CDM takes over and stops the run
+    else:
+        candidates = pair_a.size
+    hits = broad[BR_HITS]
+    for i in range(candidates):
+        p = hits[i] if sweeping else i
         a = pair_a[p]
         b = pair_b[p]
+        if not sweeping:
+            ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
+            bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
+            if (body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br
+                    or body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar
+                    or body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br
+                    or body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar):  # fmt: skip
+                continue
         closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
-        ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
-        bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
-        if (body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br
-                or body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar
-                or body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br
-                or body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar):  # fmt: skip
-            continue
         _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
         _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
         n_a = body_nv[a]
