@@ -591,6 +591,7 @@ def run_summary(result: Any) -> dict[str, Any]:
         "substep_s": d.get("substep") or None,
         "steps": d.get("steps"),
         "exact_substeps": d.get("exact_substeps", 0),
+        "exact_steps_of_dt": d.get("exact_steps_of_dt", 0),
         "cdm_steps": d.get("cdm_steps", 0),
         "solver_wall_time_s": d.get("wall_time_s"),
         "us_per_step": d.get("us_per_step"),
