@@ -204,31 +204,10 @@ def pairs_to_visit(u, geometry, broad):
 
 
 @kernel(inline="always")
-def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
-    """True when some pair's boxes, each widened by how far its body can move within `horizon`
-    s, overlap (sweep and prune: the answer of testing every pair, for any state without NaN;
-    True for one with NaN)."""
-    body_floor = geometry[2]
-    body_radius = geometry[4]
-    body_box = geometry[5]
-    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
-    for g in range(group_axis.size):
-        start = group_start[g]
-        stop = group_start[g + 1]
-        if not _widened_bounds(start, stop, group_axis[g], horizon, u, v, acc, group_body, body_floor, body_radius,
-                               body_box, bounds):  # fmt: skip
-            return True
-        _sort_by_lower_bound(start, stop, order, bounds)
-        if _sweep(start, stop, order, bounds, index, index_start, g, hits, 0, True) > 0:
-            return True
-    return False
-
-
-@kernel
-def pairs_may_meet_within(horizon, u, v, acc, geometry, broad):
-    """The pairs whose boxes, each widened by how far its body can move within `horizon` s,
-    overlap, into broad's `hits` (sweep and prune, by group); returns their number, or −1 for
-    a state with NaN (no order to sweep)."""
+def _widened_sweep(horizon, u, v, acc, geometry, broad, first_only):
+    """Sweep and prune on the boxes widened by how far each body can move within `horizon` s:
+    the pairs whose widened boxes overlap, into broad's `hits` (only the first when
+    first_only); returns their number, or −1 for a state with NaN (no order to sweep)."""
     body_floor = geometry[2]
     body_radius = geometry[4]
     body_box = geometry[5]
@@ -241,8 +220,26 @@ def pairs_may_meet_within(horizon, u, v, acc, geometry, broad):
                                body_box, bounds):  # fmt: skip
             return -1
         _sort_by_lower_bound(start, stop, order, bounds)
-        n_hits = _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, False)
+        n_hits = _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, first_only)
+        if first_only and n_hits > 0:
+            return n_hits
     return n_hits
+
+
+@kernel(inline="always")
+def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
+    """True when some pair's boxes, each widened by how far its body can move within `horizon`
+    s, overlap (sweep and prune: the answer of testing every pair, for any state without NaN;
+    True for one with NaN)."""
+    return _widened_sweep(horizon, u, v, acc, geometry, broad, True) != 0
+
+
+@kernel
+def pairs_may_meet_within(horizon, u, v, acc, geometry, broad):
+    """The pairs whose boxes, each widened by how far its body can move within `horizon` s,
+    overlap, into broad's `hits` (sweep and prune, by group); returns their number, or −1 for
+    a state with NaN (no order to sweep)."""
+    return _widened_sweep(horizon, u, v, acc, geometry, broad, False)
 
 
 def pair_groups(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray) -> list[list[int]]:

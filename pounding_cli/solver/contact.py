@@ -303,6 +303,18 @@ def buffers(n_vertices: int) -> tuple[np.ndarray, ...]:
     )
 
 
+@kernel(inline="always")
+def _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
+    """The rest boxes of bodies a and b, displaced and each widened by how far its body can
+    move within `horizon` s (reach_over), overlap."""
+    ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
+    bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
+    return not (body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br
+                or body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar
+                or body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br
+                or body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar)  # fmt: skip
+
+
 @kernel
 def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
     """True when some pair's bounding boxes, each widened by how far its body can move within
@@ -314,19 +326,8 @@ def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
     pair_a = params[0]
     pair_b = params[1]
     for p in range(pair_a.size):
-        a = pair_a[p]
-        b = pair_b[p]
-        ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
-        bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
-        if body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br:
-            continue
-        if body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar:
-            continue
-        if body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br:
-            continue
-        if body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar:
-            continue
-        return True
+        if _widened_boxes_meet(pair_a[p], pair_b[p], u, v, acc, horizon, body_floor, body_radius, body_box):
+            return True
     return False
 
 
@@ -342,17 +343,24 @@ def _turn_reach(body, v, acc, horizon, body_floor, body_radius):
 
 
 @kernel(inline="always")
+def _centre_difference(a, b, x, body_floor):
+    """|x_B − x_A| in plan for the mass-centre entries (x, y) of a floor vector x (velocity,
+    acceleration); an obstacle's are zero (it moves with the ground)."""
+    fa = body_floor[a]
+    fb = body_floor[b]
+    dx = (x[3 * fb] if fb >= 0 else 0.0) - (x[3 * fa] if fa >= 0 else 0.0)
+    dy = (x[3 * fb + 1] if fb >= 0 else 0.0) - (x[3 * fa + 1] if fa >= 0 else 0.0)
+    return np.sqrt(dx * dx + dy * dy)
+
+
+@kernel(inline="always")
 def _pair_closing(a, b, v, acc, horizon, body_floor, body_radius):
     """How much the outlines of bodies a and b can close within `horizon` s, m: their mass
     centres' relative speed and acceleration (the ground's, common to both, cancels; an
     obstacle moves with the ground) and what each one's turning adds (_turn_reach)."""
-    fa = body_floor[a]
-    fb = body_floor[b]
-    dvx = (v[3 * fb] if fb >= 0 else 0.0) - (v[3 * fa] if fa >= 0 else 0.0)
-    dvy = (v[3 * fb + 1] if fb >= 0 else 0.0) - (v[3 * fa + 1] if fa >= 0 else 0.0)
-    dax = (acc[3 * fb] if fb >= 0 else 0.0) - (acc[3 * fa] if fa >= 0 else 0.0)
-    day = (acc[3 * fb + 1] if fb >= 0 else 0.0) - (acc[3 * fa + 1] if fa >= 0 else 0.0)
-    move = np.sqrt(dvx * dvx + dvy * dvy) * horizon + 0.5 * np.sqrt(dax * dax + day * day) * horizon * horizon
+    dv = _centre_difference(a, b, v, body_floor)
+    da = _centre_difference(a, b, acc, body_floor)
+    move = dv * horizon + 0.5 * da * horizon * horizon
     return move + _turn_reach(a, v, acc, horizon, body_floor, body_radius) + _turn_reach(
         b, v, acc, horizon, body_floor, body_radius)
 
@@ -415,14 +423,8 @@ def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a
         p = hits[i] if sweeping else i
         a = pair_a[p]
         b = pair_b[p]
-        if not sweeping:
-            ax, ay, agx, agy, ar = reach_over(a, u, v, acc, horizon, body_floor, body_radius)
-            bx, by, bgx, bgy, br = reach_over(b, u, v, acc, horizon, body_floor, body_radius)
-            if (body_box[a, 2] + ax + agx + ar < body_box[b, 0] + bx - bgx - br
-                    or body_box[b, 2] + bx + bgx + br < body_box[a, 0] + ax - agx - ar
-                    or body_box[a, 3] + ay + agy + ar < body_box[b, 1] + by - bgy - br
-                    or body_box[b, 3] + by + bgy + br < body_box[a, 1] + ay - agy - ar):  # fmt: skip
-                continue
+        if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
+            continue
         closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
         _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
         _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
