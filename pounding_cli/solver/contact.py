@@ -74,6 +74,12 @@ EV_COLUMNS = 14
 def _deform(body, u, body_poly, body_nv, body_floor, body_centre, out):
     """Write body's displaced outline into out, turned rigidly by θ about its mass centre;
     returns its displaced reference point."""
+    return _deform_before(body, u, u, 0.0, body_poly, body_nv, body_floor, body_centre, out)
+
+
+@kernel(inline="always")
+def _deform_before(body, u, v, back, body_poly, body_nv, body_floor, body_centre, out):
+    """_deform at the displacements u − back·v (back s before, at velocity v)."""
     f = body_floor[body]
     gx = body_centre[body, 0]
     gy = body_centre[body, 1]
@@ -82,10 +88,11 @@ def _deform(body, u, body_poly, body_nv, body_floor, body_centre, out):
             out[k, 0] = body_poly[body, k, 0]
             out[k, 1] = body_poly[body, k, 1]
         return gx, gy
-    ux = u[3 * f]
-    uy = u[3 * f + 1]
-    c = np.cos(u[3 * f + 2])
-    s = np.sin(u[3 * f + 2])
+    ux = u[3 * f] - back * v[3 * f]
+    uy = u[3 * f + 1] - back * v[3 * f + 1]
+    turn = u[3 * f + 2] - back * v[3 * f + 2]
+    c = np.cos(turn)
+    s = np.sin(turn)
     for k in range(body_nv[body]):
         dx = body_poly[body, k, 0] - gx
         dy = body_poly[body, k, 1] - gy
@@ -146,6 +153,22 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
     if m == 0:
         return False
     return contact_frame_xy(clip, clip_label, m, poly_a, body_nv[a], poly_b, body_nv[b], gax, gay, gbx, gby, frame)
+
+
+@kernel(inline="always")
+def _kinetic_shortfall(excess_before, excess_now):
+    """Where stick gives way, the force drops from μ_s·F_N to μ_k·F_N at an instant t* inside
+    the last step, located by the excess |F_T| − μ_s·F_N going from excess_before < 0 at the
+    last step to excess_now > 0 now: φ = (t_n − t*)/Δt of the step was spent slipping. The
+    CDM's force at t_n acts over [t_n − Δt/2, t_n + Δt/2]; taking it as μ_k·F_N + (μ_s − μ_k)·F_N
+    · (½ − φ) (this return value times (μ_s − μ_k)·F_N) gives that window, or the one before
+    it, the impulse of a jump at t*, whichever held it. Switching at t_n instead misplaces an
+    impulse (μ_s − μ_k)·F_N·Δt·(½ − φ), an error of first order in Δt, which dominated the
+    Kobe run's convergence with μ_s > μ_k."""
+    if not excess_before < 0.0:
+        return -0.5  # (the state came from a slip: no better estimate than the step's end)
+    share_slipping = excess_now / (excess_now - excess_before)
+    return 0.5 - share_slipping
 
 
 @kernel
@@ -219,6 +242,8 @@ def contact_forces(
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
         slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
+        if state[p, ST_ACTIVE] == 0:
+            slip_t *= share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b)
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_est)
         v_n = (vbx - vax) * nx + (vby - vay) * ny
@@ -236,9 +261,14 @@ def contact_forces(
         slipping = state[p, ST_SLIP] > 0
         limit = mu_k[p] * f_n if slipping else mu_s[p] * f_n
         if abs(trial) > limit:
+            sign = 1.0 if trial > 0 else -1.0
+            spring = sign * mu_k[p] * f_n
+            if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
+                trial = spring + sign * (mu_s[p] - mu_k[p]) * f_n * _kinetic_shortfall(
+                    abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN], abs(trial) - limit)
+            else:
+                trial = spring
             slipping = True
-            trial = mu_k[p] * f_n if trial > 0 else -mu_k[p] * f_n
-            spring = trial
         elif slipping and abs(trial) <= mu_k[p] * f_n:
             slipping = False
         state[p, ST_FT] = spring
@@ -395,6 +425,35 @@ def _separation_along_edges(p, n_p, q, n_q):
     return best
 
 
+@kernel(inline="always")
+def _signed_gap(p, n_p, q, n_q):
+    """Separating-axis gap of outlines p and q over both outlines' edge normals, m: a lower
+    bound of their distance when > 0; minus their penetration depth when they overlap."""
+    return max(_separation_along_edges(p, n_p, q, n_q), _separation_along_edges(q, n_q, p, n_p))
+
+
+@kernel
+def share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b):
+    """Share of the last step (0–1) that bodies a and b, overlapping now, spent in contact:
+    their signed gap went from g₀ ≥ 0 at the last step (u − Δt·v_{n−½}, the CDM's straight
+    path) to −depth now, so they met depth/(g₀ + depth) of a step ago. The tangential spring
+    starts from that instant: counting the whole step's slip would offset its anchor by up to
+    Δt·v_T, an error that does not shrink with Δt on nested grids (the last grid point before
+    the touch is shared by every finer grid) and that made friction runs converge erratically."""
+    body_poly, body_nv, body_floor, body_centre = geometry[0], geometry[1], geometry[2], geometry[3]
+    n_a = body_nv[a]
+    n_b = body_nv[b]
+    _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
+    _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
+    now = _signed_gap(poly_a, n_a, poly_b, n_b)
+    _deform_before(a, u, v_half, dt, body_poly, body_nv, body_floor, body_centre, poly_a)
+    _deform_before(b, u, v_half, dt, body_poly, body_nv, body_floor, body_centre, poly_b)
+    before = _signed_gap(poly_a, n_a, poly_b, n_b)
+    if not before > now or before <= 0.0:
+        return 1.0  # (overlapping a step ago too, as when a run starts in contact)
+    return min(1.0, -now / (before - now))
+
+
 CLOSING_SAFETY = 2.0
 """contact_ruled_out_within doubles what two outlines can close (_pair_closing): it takes
 the accelerations of the instant as bounds, and they change within the horizon."""
@@ -430,7 +489,7 @@ def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a
         _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
         n_a = body_nv[a]
         n_b = body_nv[b]
-        gap = max(_separation_along_edges(poly_a, n_a, poly_b, n_b), _separation_along_edges(poly_b, n_b, poly_a, n_a))
+        gap = _signed_gap(poly_a, n_a, poly_b, n_b)
         if not gap > closing:  # (NaN: possible)
             return False
     return True
