@@ -64,7 +64,7 @@ def test_validate_prints_periods_and_time_step():
                  "  Rayleigh: ζ = 0.05, 0.05 at modes 1, 3 → a0 = 0.8242 1/s, a1 = 0.0029439 s"):  # fmt: skip
         assert line in lines, r.stdout
     (dt_line,) = [ln for ln in lines if ln.startswith("  Δt = ")]
-    assert dt_line.startswith("  Δt = 5.342e-06 s: auto, 0.0125 × 2/ω_contact — the contact limit governs (0.0004275 s; "
+    assert dt_line.startswith("  Δt = 2.671e-06 s: auto, 0.00625 × 2/ω_contact — the contact limit governs (0.0004275 s; "
                               "the structure's: 0.01219 s, building right)")  # fmt: skip
     (hybrid,) = [ln for ln in lines if ln.startswith("  integrator: ")]
     assert f"hybrid — {a['steps']:,} exact substeps of 0.001111 s" in hybrid and a["steps"] == 30600

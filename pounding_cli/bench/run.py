@@ -32,6 +32,7 @@ SETTINGS = (
     Setting("hybrid (default)", "hybrid", default=True),
     Setting("hybrid, ω·h ≤ 0.4", "hybrid", sampling=0.4),
     Setting("hybrid, ω·h ≤ 0.1", "hybrid", sampling=0.1),
+    Setting("hybrid, Δt / 2", "hybrid", dt_scale=0.5),
     Setting("hybrid, Δt × 2", "hybrid", dt_scale=2.0),
     Setting("hybrid, Δt × 4", "hybrid", dt_scale=4.0),
     Setting("cdm, Δt auto", "cdm"),

@@ -43,7 +43,7 @@ class Analysis(Strict):
 
     dt: TimeStep = "auto"
     """Time step of the central difference method, s, or "auto": the finest of 0.05 × the
-    structure's stability limit 2/ω_max (0.0125 × with yielding members) and 0.0125 × the
+    structure's stability limit 2/ω_max (0.0125 × with yielding members) and 0.00625 × the
     contact's 2/ω_contact where contact is possible, adjusted so that it divides the output
     interval (the hybrid's substep); `pound validate` says which limit governs (see
     docs/theory.md §6). A given step applies to every CDM step."""
