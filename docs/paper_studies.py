@@ -33,7 +33,7 @@ ANGLES = (0, 45, 90, 135, 180, 225, 270, 315)
 STOREY_ANGLES = (0, 45, 90, 135, 180)
 """The angles of 6.3 given storey by storey."""
 FINER = (0.25, 0.0625)
-"""Contact steps of the convergence check, × the automatic contact step (0.0125 · 2/ω_contact)."""
+"""Contact steps of the convergence check, × the automatic contact step (0.00625 · 2/ω_contact)."""
 CHECKED = ("6.1 case 1", "6.1 case 2", "6.1 case 3", *(f"6.3 θ = {a}°" for a in STOREY_ANGLES))
 """The cases run again at the FINER contact steps (6.2 X+Y is 6.3 θ = 0°; cases 4 and 5 have
 no contact, so no contact step)."""
@@ -236,12 +236,12 @@ def convergence_text(results: dict[str, dict], finer: dict[str, dict[float, dict
         f"with the finest step's peaks). With both components (6.2 X+Y, 6.3) the x deflections move by up to "
         f"{100 * both[0]:.2g} %, the y deflections by up to {100 * both[1]:.2g} % and the twists Δθ by up to "
         f"{100 * both[2]:.2g} %: read the twist peaks of those tables as uncertain by that much, and do not compare "
-        f"two angles' twists that differ by less. The oblique impacts of two components, with the paper's "
-        f"μ_s = 0.8 > μ_k = 0.6, make the Kobe runs converge slowly in Δt (docs/bench.md, \"The Kobe example\": at "
-        f"the default step the peaks are within 5.3 % of a converged run, at 1/16 of it within 0.45 %, and scaling "
-        f"the record by 1 + 10⁻⁴ moves them by 0.7 %): stick/slip is discontinuous, so a step's difference in when a "
-        f"contact starts to slide, or a grazing contact more or less, changes the motion that follows. The storey "
-        f"twists, excited only by eccentric and oblique impacts and by friction, are the most sensitive peaks.",
+        f"two angles' twists that differ by less. Runs of two components with many oblique impacts are "
+        f"ill-conditioned (docs/bench.md, \"The Kobe example\": at the default step the peaks of the whole "
+        f"Kobe record are within 0.23 % of a converged run, but scaling the record by 1 + 10⁻⁴ moves them by 1.9 %): "
+        f"a grazing contact more or less, or a contact that starts to slide a little earlier, changes the motion "
+        f"that follows. The storey twists, excited only by eccentric and oblique impacts and by friction, are the "
+        f"most sensitive peaks.",
         width=95,
     )
 
@@ -307,7 +307,7 @@ Storey by storey, from 0° to 180° (the paper's figure 8 plots these against th
 {table(r63)}
 ## How far the peaks are converged
 
-The runs above use the automatic contact step, 0.0125 × 2/ω_contact. The cases below were run
+The runs above use the automatic contact step, 0.00625 × 2/ω_contact. The cases below were run
 again with contact steps 4 and 16 times finer; the largest change of C9's peaks over the storeys
 (relative to each peak):
 
