@@ -388,7 +388,7 @@ def bench(
         out_dir.mkdir(parents=True, exist_ok=True)
         reports = run_bench(
             models, QUICK_SETTINGS if quick else SETTINGS, repeats=1 if quick else repeats,
-            reference_divisor=2 if quick else 4, duration=15.0 if quick else None,
+            reference_divisor=1 if quick else 4, duration=15.0 if quick else None,
             log=lambda text: err.print(text, markup=False),
         )  # fmt: skip
         text = markdown(reports)
