@@ -432,6 +432,16 @@ def _signed_gap(p, n_p, q, n_q):
     return max(_separation_along_edges(p, n_p, q, n_q), _separation_along_edges(q, n_q, p, n_p))
 
 
+@kernel(inline="always")
+def _outline_gap(a, b, u, v, back, geometry, poly_a, poly_b):
+    """_signed_gap of bodies a and b displaced to u − back·v (back s before, at velocity v),
+    m; their outlines are left in poly_a, poly_b."""
+    body_poly, body_nv, body_floor, body_centre = geometry[0], geometry[1], geometry[2], geometry[3]
+    _deform_before(a, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_a)
+    _deform_before(b, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_b)
+    return _signed_gap(poly_a, body_nv[a], poly_b, body_nv[b])
+
+
 @kernel
 def share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b):
     """Share of the last step (0–1) that bodies a and b, overlapping now, spent in contact:
@@ -440,15 +450,8 @@ def share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b):
     starts from that instant: counting the whole step's slip would offset its anchor by up to
     Δt·v_T, an error that does not shrink with Δt on nested grids (the last grid point before
     the touch is shared by every finer grid) and that made friction runs converge erratically."""
-    body_poly, body_nv, body_floor, body_centre = geometry[0], geometry[1], geometry[2], geometry[3]
-    n_a = body_nv[a]
-    n_b = body_nv[b]
-    _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
-    _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
-    now = _signed_gap(poly_a, n_a, poly_b, n_b)
-    _deform_before(a, u, v_half, dt, body_poly, body_nv, body_floor, body_centre, poly_a)
-    _deform_before(b, u, v_half, dt, body_poly, body_nv, body_floor, body_centre, poly_b)
-    before = _signed_gap(poly_a, n_a, poly_b, n_b)
+    now = _outline_gap(a, b, u, v_half, 0.0, geometry, poly_a, poly_b)
+    before = _outline_gap(a, b, u, v_half, dt, geometry, poly_a, poly_b)
     if not before > now or before <= 0.0:
         return 1.0  # (overlapping a step ago too, as when a run starts in contact)
     return min(1.0, -now / (before - now))
@@ -467,7 +470,7 @@ def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a
     any edge normal) exceeds CLOSING_SAFETY × what they can close in that time
     (_pair_closing). Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
     hybrid's approach levels use it to step exactly up to a few CDM steps before an impact."""
-    body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
+    body_floor, body_radius, body_box = geometry[2], geometry[4], geometry[5]
     pair_a = params[0]
     pair_b = params[1]
     sweeping = broad[BR_GROUP_AXIS].size > 0
@@ -485,11 +488,7 @@ def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
             continue
         closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
-        _deform(a, u, body_poly, body_nv, body_floor, body_centre, poly_a)
-        _deform(b, u, body_poly, body_nv, body_floor, body_centre, poly_b)
-        n_a = body_nv[a]
-        n_b = body_nv[b]
-        gap = _signed_gap(poly_a, n_a, poly_b, n_b)
+        gap = _outline_gap(a, b, u, v, 0.0, geometry, poly_a, poly_b)
         if not gap > closing:  # (NaN: possible)
             return False
     return True
