@@ -34,6 +34,7 @@ from .jit import REASSOCIATE, kernel
 
 from .contact import contact_forces
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
+from .peaks import update_peaks
 
 # energy columns, in the order of the HDF5 /energy dataset
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = range(7)
@@ -140,45 +141,6 @@ def solve_blocks(binv, dof_start, dof_count, r, out):
             for j in range(n):
                 acc += binv[b, i, j] * r[d0 + j]
             out[d0 + i] = acc
-
-
-@kernel
-def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                 col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc):
-    """Running maxima: column deflections in building axes, storey twist, floor motion.
-
-    A point P of a floor with mass centre G moves by u + θ·ẑ×(P − G), so a column at P of
-    storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
-    In building axes (cos φ, sin φ) the deflection is Ã + Δθ·(ξ, η) with
-    ξ = −cos φ·P_y + sin φ·P_x and η = sin φ·P_y + cos φ·P_x (col_arm holds ξ, η).
-    storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey.
-    """
-    for s in range(storey_top.size):
-        t = storey_top[s]
-        b = storey_bottom[s]
-        ax = u[3 * t] + u[3 * t + 2] * centre[t, 1] - u[3 * b] - u[3 * b + 2] * centre[b, 1]
-        ay = u[3 * t + 1] - u[3 * t + 2] * centre[t, 0] - u[3 * b + 1] + u[3 * b + 2] * centre[b, 0]
-        rot = u[3 * t + 2] - u[3 * b + 2]
-        c = storey_axes[s, 0]
-        sn = storey_axes[s, 1]
-        storey_work[s, 0] = c * ax + sn * ay
-        storey_work[s, 1] = c * ay - sn * ax
-        storey_work[s, 2] = rot
-        if abs(rot) > peak_rot[s]:
-            peak_rot[s] = abs(rot)
-    for k in range(col_storey.size):
-        s = col_storey[k]
-        lx = abs(storey_work[s, 0] + storey_work[s, 2] * col_arm[k, 0])
-        ly = abs(storey_work[s, 1] + storey_work[s, 2] * col_arm[k, 1])
-        if lx > peak_col[k, 0]:
-            peak_col[k, 0] = lx
-        if ly > peak_col[k, 1]:
-            peak_col[k, 1] = ly
-    for d in range(n_dof):
-        if abs(u[d]) > peak_disp[d]:
-            peak_disp[d] = abs(u[d])
-        if abs(acc_abs[d]) > peak_acc[d]:
-            peak_acc[d] = abs(acc_abs[d])
 
 
 @kernel(inline="always")

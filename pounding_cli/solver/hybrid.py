@@ -42,13 +42,13 @@ from .cdm import (
     solve_blocks,
     storey_matvec,
     storey_matvec_pair,
-    update_peaks,
     write_output,
 )
 from .broad_phase import BR_N_LIVE
 from .contact import contact_possible_within, contact_ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
+from .peaks import peaks_between, update_peaks
 
 # exact (substeps of h); CDM at the contact step; CDM at the yielding step; exact in finer steps
 # toward a contact that may begin within the substep
@@ -83,10 +83,15 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bott
 @kernel
 def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground, ground_dt,
                 g, acc, storey_axes, centre, col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp,
-                peak_acc):  # fmt: skip
+                peak_acc, kept, between, first):  # fmt: skip
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
-    accounted for (trapezoidal), the peaks. Returns the ground acceleration (X, Y) at t."""
+    accounted for (trapezoidal), the peaks. When that last state was the previous exact point
+    (an open account: no hand-over since), the peaks include those of the step between
+    (peaks_between, from what kept and between hold of that state; first: the storeys' first
+    columns). Returns
+    the ground acceleration (X, Y) at t."""
+    smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
     agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
                            ground_dt, g)  # fmt: skip
     n_dof = mass.size
@@ -99,6 +104,8 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     accumulate_energy(acc, gap, p_in, p_damp, 0.0)
     update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
                  peak_rot, peak_disp, peak_acc)  # fmt: skip
+    peaks_between(gap, smooth, u, v, n_dof, bottom, top, storey_axes, centre, col_arm, first, storey_work, kept,
+                  between, peak_col, peak_rot, peak_disp)  # fmt: skip
     return agx, agy
 
 
@@ -154,8 +161,9 @@ def _enter_cdm(step, u, v_exact, a_rel, v_half, dv, storey_k, bottom, top, z, ma
 def hybrid_advance(
     k_start, k_stop, k_end, h, sub, sub_y, binv_y, stride_h, u_limit,
     # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
-    # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s
-    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap,
+    # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
+    # first: what peaks_between keeps of the last exact state, and the storeys' first columns
+    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
     # everything cdm.advance takes after its first five arguments
     mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -204,7 +212,8 @@ def hybrid_advance(
                 acc[ACC_HYSTERETIC] += dissipated
             agx, agy = exact_point(t, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
-                                   col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+                                   col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
+                                   between, first)  # fmt: skip
             e_plastic = 0.0
             if has_members:
                 member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
@@ -312,7 +321,8 @@ def hybrid_advance(
                     break
                 exact_point(t + pos * h_fine, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping,
                             storey_k, storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
-                            col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+                            col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
+                            between, first)  # fmt: skip
                 if level > 1 and pos % (2 * size) == 0:
                     level -= 1  # try the coarser step: the next pass checks it
                 continue
@@ -352,7 +362,8 @@ def hybrid_advance(
             level = levels
             exact_point(t_pos, 0.0, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                         storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre, col_storey,
-                        col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+                        col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept, between,
+                        first)  # fmt: skip
     return STATUS_OK, k_stop
 
 

@@ -17,6 +17,7 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
+from .peaks import between_arrays
 from .propagator import building_propagators
 
 DIVERGENCE_LIMIT = 100.0
@@ -368,7 +369,8 @@ def simulate(
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
                       np.zeros(phi.shape[2]), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
-                      kinv, np.zeros(n_dof + 3), np.full(1, h))  # fmt: skip
+                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((2, n_dof + 3)),
+                      *between_arrays(structure.column_storey, col_arm, n_storeys))  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:

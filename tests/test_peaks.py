@@ -1,0 +1,72 @@
+"""Peaks between exact states: the cubic Hermite interpolant's maximum (solver/peaks.py)
+against closed forms, and the hybrid's peaks against the exact solution sampled finely."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pounding_cli as pound
+from pounding_cli.assembly import assemble, ground_motion
+from pounding_cli.solver.peaks import hermite_peak
+
+from test_time_history import _eccentric_case, _exact_peaks
+
+
+@pytest.mark.parametrize("omega_h", [0.05, 0.2, 0.4])
+def test_crest_of_a_sine_within_the_hermite_bound(omega_h):
+    """q = A·cos(ω(τ − τ_c)) with its crest at τ_c inside the step: the interpolant's maximum
+    is within h⁴·max|q''''|/384 = (ω·h)⁴/384·A of A (the cubic Hermite error bound), whereas
+    the larger end value misses by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8."""
+    amplitude, omega = 0.03, 20.0
+    h = omega_h / omega
+    worst_end = 0.0
+    for fraction in np.linspace(0.02, 0.98, 49):
+        crest = fraction * h
+        q0, q1 = amplitude * np.cos(omega * (0.0 - crest)), amplitude * np.cos(omega * (h - crest))
+        m0, m1 = -amplitude * omega * np.sin(omega * (0.0 - crest)), -amplitude * omega * np.sin(omega * (h - crest))
+        peak = hermite_peak(q0, m0, q1, m1, h, 0.0)
+        assert abs(peak - amplitude) <= omega_h**4 / 384 * amplitude * (1 + 1e-9), fraction
+        worst_end = max(worst_end, amplitude - max(abs(q0), abs(q1)))
+    assert worst_end > 0.9 * (1 - np.cos(omega_h / 2)) * amplitude  # what sampling the ends alone would miss
+
+
+def test_cubic_interpolated_exactly():
+    """A cubic is its own Hermite interpolant: its interior extrema, found by numpy's roots of
+    q', are returned to rounding (q = s³ − 1.35s² + 0.42s − 0.05 on s = τ/h ∈ [0, 1], h = 0.5 s:
+    stationary at s = 0.2 and 0.7, the largest |q| = 0.0745 inside, above both ends)."""
+    h = 0.5
+    coefficients = np.array([1.0, -1.35, 0.42, -0.05])  # highest power first
+    q = np.poly1d(coefficients)
+    dq = q.deriv()
+    stationary = [s.real for s in dq.r if abs(s.imag) < 1e-12 and 0 < s.real < 1]
+    assert len(stationary) == 2
+    expected = max(abs(q(s)) for s in stationary)
+    assert expected > max(abs(q(0.0)), abs(q(1.0)))
+    got = hermite_peak(q(0.0), dq(0.0) / h, q(1.0), dq(1.0) / h, h, 0.0)
+    assert got == pytest.approx(expected, rel=1e-14)
+
+
+def test_running_peak_kept_when_the_step_cannot_exceed_it():
+    """The bound max(|q₀|, |q₁|) + 4/27·h·(|q̇₀| + |q̇₁|) below the running peak: returned as is;
+    a monotonic step (no interior stationary point) never lowers or raises it."""
+    assert hermite_peak(0.1, 1.0, 0.2, 1.0, 0.01, 0.5) == 0.5
+    assert hermite_peak(0.1, 10.0, 0.2, 10.0, 0.01, 0.15) == 0.15
+
+
+def test_hybrid_peaks_match_the_exact_solution_sampled_finely():
+    """With the interpolated peaks, every significant peak interstorey deflection (x, y, θ) of
+    the eccentric 4-storey building under both components is within 1e-6 of the exact
+    (matrix-exponential) solution sampled every 0.05 ms, where the exact samples' own error is
+    (ω₁·0.05 ms)²/8 ≈ 5e-8. The hybrid's substeps are 2 ms (ω_max·h = 0.2): sampled at them
+    alone, the peaks were 3.6e-4 off; the interpolant's bound is (ω·h)⁴/384 = 4e-6 of the
+    highest mode's share of a peak, and the peaks are the lower modes'. Measured 1.0e-7."""
+    loaded = _eccentric_case("hybrid")
+    result = pound.run_model(loaded)
+    assert result.diagnostics["cdm_steps"] == 0 and result.diagnostics["substep"] == pytest.approx(0.002)
+    exact, _ = _exact_peaks(assemble(loaded).buildings[0], ground_motion(loaded), substeps=200)
+    got = result.buildings["b"].interstorey_deflection
+    for k, name in enumerate(("x", "y", "θ")):
+        significant = exact[:, :, k] > 1e-3 * exact[:, :, k].max()
+        rel = np.abs(got[:, :, k] - exact[:, :, k])[significant] / exact[:, :, k][significant]
+        assert rel.max() < 1e-6, f"{name}: worst relative peak error {rel.max():.2e}"
