@@ -28,7 +28,7 @@ import pytest
 from typer.testing import CliRunner
 
 from exact import exact_response
-from pounding_cli import describe, load_model, read_hdf5, run_model
+from pounding_cli import describe, read_hdf5, run_model
 from pounding_cli.api import prepare
 from pounding_cli.assembly.contact import restitution_damping_ratio
 from pounding_cli.cli import app

@@ -160,7 +160,6 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     m = np.asarray(masses)
     meff = np.array([m[i] if not np.isfinite(m[j]) else m[i] * m[j] / (m[i] + m[j]) for i, j, _ in candidates])
     zetas = {e: restitution_damping_ratio(e) for e in {s.restitution for s in settings} if e not in (None, 1.0)}
-    n = len(candidates)
     arrays = ContactArrays(
         body_poly=body_poly,
         body_nv=nv,

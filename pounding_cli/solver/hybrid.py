@@ -28,8 +28,6 @@ ends and marks the instant as counted.
 
 from __future__ import annotations
 
-import numpy as np
-
 from .cdm import (
     ACC_FRESH,
     ACC_HYSTERETIC,
