@@ -4,7 +4,8 @@ difference method (CDM) around impacts.
 While every pair of bodies is apart by more than it can close within the horizon, the
 buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
 interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
-error, only the sampling of peaks every h. When a contact may begin within 2h (bounding
+error; the peaks between two exact states come from the cubic through them (peaks.py).
+When a contact may begin within 2h (bounding
 boxes widened by what velocity and acceleration can add), the exact propagation goes on in
 steps of h/2, h/4, … h/2^L (the approach levels), halving while the outlines could touch
 within two steps (contact.contact_ruled_out_within), and hands the state to the CDM of

@@ -43,7 +43,7 @@ def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, cent
     storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
     In building axes (cos φ, sin φ) the deflection is Ã + Δθ·(ξ, η) with
     ξ = −cos φ·P_y + sin φ·P_x and η = sin φ·P_y + cos φ·P_x (col_arm holds ξ, η).
-    storey_work (n_storeys, ≥ 3) receives Ã_x, Ã_y, Δθ of each storey.
+    storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey.
     """
     for s in range(storey_top.size):
         dx, dy, rot = storey_deflection(u, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
