@@ -757,6 +757,10 @@ def _print_description(info: dict[str, Any]) -> None:
             out.print(f"  {', '.join(kinds)}: {text}", markup=False)
         out.print(f"  Δt limit (CDM, in contact): 2/ω_contact = {c['dt_limit_s']:.4g} s (ω_contact = "
                   f"{c['omega_max_rad_s']:.4g} rad/s, an upper estimate)", markup=False)  # fmt: skip
+        if c["omega_likely_rad_s"] < c["omega_max_rad_s"]:
+            out.print(f"  likely contacts (by the angles between the slabs' edges): ω_contact = "
+                      f"{c['omega_likely_rad_s']:.4g} rad/s, 2/ω_contact = {2 / c['omega_likely_rad_s']:.4g} s",
+                      markup=False)  # fmt: skip
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "
@@ -782,7 +786,12 @@ def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
             why += f"; {'above' if above else 'below'} the contact's 2/ω_contact ({contact})"
             why += ": impacts may go unstable" if above else ""
     elif a["dt_limited_by"] == "contact":
-        why = f"auto, {fraction} × 2/ω_contact — the contact limit governs ({contact}; the structure's: {structure})"
+        if a["contact_step_limit_s"] > a["contact_limit_s"]:
+            likely = f"{a['contact_step_limit_s']:.4g} s"
+            why = (f"auto, {fraction} × 2/ω_contact of the likely contacts — the contact governs ({likely}; the "
+                   f"stiffest the outlines allow: {contact}; the structure's: {structure})")  # fmt: skip
+        else:
+            why = f"auto, {fraction} × 2/ω_contact — the contact limit governs ({contact}; the structure's: {structure})"
     else:
         why = f"auto, {fraction} × 2/ω_max — the structure's limit governs ({structure}"
         why += f"; the contact's: {contact})" if contact else "; no contact candidates)"

@@ -82,12 +82,16 @@ def test_a_contact_ruled_out_does_not_happen_within_the_horizon(case):
     assert tighter > 0, "some states the boxes cannot rule out are ruled out"
 
 
-@pytest.mark.parametrize("path, duration", [(INPUTS / "paper_pounding.toml", 16.0), (SCENES / "corner.toml", None),
-                                            (SCENES / "row_of_5.toml", 10.0)])  # fmt: skip
-def test_the_approach_levels_change_nothing_but_the_cost(path, duration, monkeypatch):
+@pytest.mark.parametrize("path, duration, saving", [(INPUTS / "paper_pounding.toml", 16.0, 3.0),
+                                                    (SCENES / "corner.toml", None, 2.5),
+                                                    (SCENES / "row_of_5.toml", 10.0, 3.0)])  # fmt: skip
+def test_the_approach_levels_change_nothing_but_the_cost(path, duration, saving, monkeypatch):
     """Histories within 10⁻⁶ of each component's peak: the runs differ only in where the CDM
     takes over and hands back (each hand-over second-order consistent, so the difference is
-    of order (ω·Δt)² ≈ 10⁻⁷ at the contact step); the same impacts, starting at the same step."""
+    of order (ω·Δt)² ≈ 10⁻⁷ at the contact step); the same impacts, starting at the same step.
+    The levels take `saving` × fewer CDM steps: less in the corner scene, whose contact step
+    follows its soft corner contacts (60 CDM steps per substep, so two levels whose finest
+    step is 15 CDM steps, against 416 and five levels in the paper's buildings)."""
     doc = copy.deepcopy(read_document(path))
     if duration is not None:
         doc["analysis"]["duration"] = duration
@@ -103,5 +107,5 @@ def test_the_approach_levels_change_nothing_but_the_cost(path, duration, monkeyp
         assert np.all(difference <= 1e-6 * peak), name
     d, d0 = with_levels.diagnostics, without.diagnostics
     assert d["contact_steps"] == d0["contact_steps"]
-    assert 3 * d["cdm_steps"] <= d0["cdm_steps"]
+    assert saving * d["cdm_steps"] <= d0["cdm_steps"]
     assert d["exact_steps_of_dt"] + d["cdm_steps"] == d0["exact_steps_of_dt"] + d0["cdm_steps"]

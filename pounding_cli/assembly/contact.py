@@ -7,7 +7,7 @@ pair is the floor of the building listed first; body B the other floor, or the o
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -99,7 +99,9 @@ class ContactArrays:
     pair_ct: np.ndarray  # tangential dashpot, N·s/m
     pair_meff: np.ndarray  # m_A·m_B/(m_A + m_B), kg (m_A against an obstacle)
     pairs: list[PairInfo]
-    omega_max: float  # rad/s, estimate of the fastest contact vibration (0 without pairs)
+    omega_max: float  # rad/s, upper bound of the fastest contact vibration (0 without pairs)
+    pair_mobility: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_pairs,) Σ(1/m + r²/J) of the two bodies, 1/kg
+    omega_step: float = 0.0  # rad/s, the likely fastest contact vibration: what Δt = "auto" follows
 
     @property
     def n_pairs(self) -> int:
@@ -179,8 +181,18 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         pairs=[c[2] for c in candidates],
         omega_max=0.0,
     )
-    omega = contact_omega(arrays, m, np.asarray(inertias), polys)
-    return ContactArrays(**{**arrays.__dict__, "omega_max": omega})
+    # the contact's upper bound: the overlap grows at most as fast as L·δ, L the smaller body's
+    # diameter, so the normal force stiffens at most to k_N·L (the tangential spring: k_T),
+    # acting at a point of mobility at most pair_mobility; the likely bound: L from the edges'
+    # angles (likely_contact_line)
+    mobility = pair_mobility(arrays, m, np.asarray(inertias))
+    diameters = np.array([_diameter(p) for p in polys])
+    longest = np.array([min(diameters[i], diameters[j]) for i, j, _ in candidates])
+    likely = np.array([likely_contact_line(polys[i], polys[j]) for i, j, _ in candidates])
+    omega_max = _fastest(kn, kt, longest, mobility)
+    omega_step = max(_fastest(kn, kt, np.minimum(likely, longest), mobility), STEP_BOUND * omega_max)
+    return ContactArrays(**{**arrays.__dict__, "omega_max": omega_max, "pair_mobility": mobility,
+                            "omega_step": omega_step})  # fmt: skip
 
 
 def _obstacle_field(model, o: int) -> str:
@@ -239,24 +251,72 @@ def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact) -> t
     return (auto_n if kn == "auto" else float(kn)), (auto_t if kt == "auto" else float(kt))
 
 
-def contact_omega(arrays: ContactArrays, mass: np.ndarray, inertia: np.ndarray, polys: list[np.ndarray]) -> float:
-    """An upper estimate of the fastest vibration a contact can cause, rad/s.
+LIKELY_DEPTH = 1e-3
+"""The overlap depth (m) at which likely_contact_line measures a pair's contact line: pounding
+with k_N of concrete (10⁹–10¹¹ N/m²) overlaps by micrometres to a few millimetres."""
 
-    A pair's overlap grows at most as fast as L·δ with L the longest line inside the smaller
-    body (its diameter), so the normal force stiffens at most to k_N·L; the tangential spring
-    adds k_T. That stiffness acts at a point, on bodies whose mobility there is at most
-    1/m + r²/J for each (r: the body's largest vertex distance from its mass centre;
-    obstacles do not move). ω = √(max(k_N·L, k_T)·Σ(1/m + r²/J)).
-    """
-    worst = 0.0
-    diameters = [float(np.max(np.hypot(*(p[:, None, :] - p[None, :, :]).reshape(-1, 2).T))) for p in polys]
+STEP_BOUND = 0.0125
+"""omega_step ≥ STEP_BOUND·omega_max: however soft the likely contacts, the automatic contact
+step (CONTACT_DT_FRACTION = 0.00625 of 2/omega_step) stays below half the CDM's stability
+limit 2/omega_max of the stiffest contact the outlines allow."""
+
+
+def _diameter(poly: np.ndarray) -> float:
+    return float(np.max(np.hypot(*(poly[:, None, :] - poly[None, :, :]).reshape(-1, 2).T)))
+
+
+def pair_mobility(arrays: ContactArrays, mass: np.ndarray, inertia: np.ndarray) -> np.ndarray:
+    """Σ(1/m + r²/J) over each pair's two bodies, 1/kg: the largest mobility a point of a
+    body can have (r: the body's largest vertex distance from its mass centre; obstacles do
+    not move)."""
+    out = np.zeros(arrays.n_pairs)
     for p in range(arrays.n_pairs):
-        i, j = int(arrays.pair_a[p]), int(arrays.pair_b[p])
-        length = min(diameters[i], diameters[j])
-        mobility = 0.0
-        for k in (i, j):
+        for k in (int(arrays.pair_a[p]), int(arrays.pair_b[p])):
             if np.isfinite(mass[k]):
-                mobility += 1.0 / mass[k] + arrays.body_radius[k] ** 2 / inertia[k]
-        stiffness = max(arrays.pair_kn[p] * length, arrays.pair_kt[p])
-        worst = max(worst, float(np.sqrt(stiffness * mobility)))
-    return worst
+                out[p] += 1.0 / mass[k] + arrays.body_radius[k] ** 2 / inertia[k]
+    return out
+
+
+def _fastest(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np.ndarray) -> float:
+    """max over pairs of ω = √(max(k_N·line, k_T)·mobility), rad/s (0 without pairs)."""
+    if kn.size == 0:
+        return 0.0
+    return float(np.max(np.sqrt(np.maximum(kn * line, kt) * mobility)))
+
+
+def likely_contact_line(poly_a: np.ndarray, poly_b: np.ndarray, depth: float = LIKELY_DEPTH) -> float:
+    """The longest contact line two outlines at rest can form when pressed `depth` (m) into
+    each other, by the angle between their edges: two edges that face each other (outward
+    normals opposed) at an angle φ overlap along at most depth/tan φ, and no longer than either
+    edge; a vertex has two edges, hence the factor 2. Parallel faces give their shorter
+    length (twice it, capped by the caller at the smaller diameter); a corner leading at 2°
+    gives 2·depth/tan 2° = 57 mm at 1 mm. Twists during the run (milliradians) barely change
+    an angle of degrees; where they could align two edges, the run measures what it met and
+    repeats itself at the step that needs (observed_contact_omega)."""
+    def edges(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        d = np.roll(poly, -1, axis=0) - poly
+        length = np.hypot(d[:, 0], d[:, 1])
+        keep = length > 0
+        return length[keep], np.arctan2(d[keep, 1], d[keep, 0])
+
+    len_a, ang_a = edges(np.asarray(poly_a, dtype=float))
+    len_b, ang_b = edges(np.asarray(poly_b, dtype=float))
+    # edges of counter-clockwise outlines face each other when their directions are opposed:
+    # φ is the angle between edge a and edge b reversed
+    phi = np.abs(np.angle(np.exp(1j * (ang_a[:, None] - ang_b[None, :] - np.pi))))
+    facing = phi < np.pi / 2
+    with np.errstate(divide="ignore"):
+        reach = np.where(phi > 0, depth / np.tan(phi), np.inf)
+    line = np.minimum(np.minimum(len_a[:, None], len_b[None, :]), reach)
+    return float(2.0 * np.max(np.where(facing, line, 0.0), initial=0.0))
+
+
+def observed_contact_omega(contact: ContactArrays, events: np.ndarray) -> float:
+    """The fastest contact vibration a run met, rad/s: √(max(k_N·ℓ, k_T)·mobility) of each
+    logged impact, ℓ its longest contact line (solver column EV_PEAK_LENGTH)."""
+    from ..solver.contact import EV_PAIR, EV_PEAK_LENGTH
+
+    if events.shape[0] == 0 or contact.n_pairs == 0:
+        return 0.0
+    p = events[:, EV_PAIR].astype(np.int64)
+    return _fastest(contact.pair_kn[p], contact.pair_kt[p], events[:, EV_PEAK_LENGTH], contact.pair_mobility[p])

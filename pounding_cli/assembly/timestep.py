@@ -4,8 +4,10 @@ the hybrid integrator.
 The central difference method (CDM) is stable for Δt < 2/ω_max. `dt = "auto"` takes the
 finest of what each part of the scene needs for accuracy (stability needs far less; see
 docs/theory.md §6): AUTO_DT_FRACTION of the structure's limit 2/ω_max for linear buildings,
-YIELD_DT_FRACTION of it with yielding members, CONTACT_DT_FRACTION of the contact's limit
-2/ω_contact (pounding_cli.assembly.contact.contact_omega) where contact is possible.
+YIELD_DT_FRACTION of it with yielding members, CONTACT_DT_FRACTION of 2/ω_contact where
+contact is possible, ω_contact the fastest vibration of the contacts the scene is likely to
+make (pounding_cli.assembly.contact: omega_step, from the angles between the slabs' edges;
+the run checks it against the contacts it met, api.execute).
 
 The hybrid integrator (the default) advances the buildings exactly over substeps h while no
 contact is possible: h divides the record's sample interval (so the ground acceleration is
@@ -66,9 +68,10 @@ class TimeGrid:
     stride: int  # steps per output sample
     n_steps: int  # a multiple of stride
     stability_limit: float  # 2/ω_max of the structure, s
-    contact_limit: float = float("inf")  # 2/ω of the stiffest contact estimate, s
+    contact_limit: float = float("inf")  # 2/ω of the stiffest contact the outlines allow, s
     substep: int = 0  # CDM steps per exact substep; 0 = CDM only
     yield_substep: int = 0  # hybrid: CDM steps per substep while only members may yield (≤ substep)
+    contact_step_limit: float = float("inf")  # 2/ω of the likely contacts the automatic step follows, s
 
     @property
     def integrator(self) -> Literal["cdm", "hybrid"]:
@@ -117,13 +120,18 @@ def time_grid(
     sampling: float = HYBRID_SAMPLING,
     yielding: bool = False,
     dt_scale: float = 1.0,
+    omega_contact_step: float | None = None,
 ) -> TimeGrid:
     """Choose the integrator, Δt, the output stride and the step count for an analysis.
+    omega_contact: the contacts' upper bound (rad/s, 0 without contact); omega_contact_step:
+    the likely fastest contact, which the automatic step follows (default omega_contact);
     yielding: the structure has yielding members. For `pound bench`: dt_fraction replaces the
     automatic rule by dt_fraction · 2/ω_max (structure or contact, the smaller limit);
     dt_scale scales every automatic step; sampling sets the hybrid's substeps."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
+    omega_step = omega_contact if omega_contact_step is None else omega_contact_step
+    step_limit = stability_limit(omega_step) if omega_step > 0 else float("inf")
     if analysis.dt != "auto" and float(analysis.dt) >= limit:
         raise InputError(
             f"time step {float(analysis.dt):g} s is at or above the stability limit 2/ω_max = {limit:.4g} s "
@@ -138,8 +146,8 @@ def time_grid(
     elif dt_fraction is not None:
         target = dt_fraction * min(limit, contact_limit)
     else:
-        which, fraction = governing_rule(limit, contact_limit, yielding)
-        target = dt_scale * fraction * (contact_limit if which == "contact" else limit)
+        which, fraction = governing_rule(limit, step_limit, yielding)
+        target = dt_scale * fraction * (step_limit if which == "contact" else limit)
     duration = analysis.duration if analysis.duration is not None else record_duration
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)
@@ -162,7 +170,7 @@ def time_grid(
             dt = target
             stride = max(1, round(out / dt))
     n_out = max(1, math.ceil(duration / (stride * dt) - 1e-9))
-    return TimeGrid(dt, stride, n_out * stride, limit, contact_limit, sub, sub_y)
+    return TimeGrid(dt, stride, n_out * stride, limit, contact_limit, sub, sub_y, step_limit)
 
 
 def _substeps(record_dt: float, out: float, h_max: float) -> tuple[float, int]:

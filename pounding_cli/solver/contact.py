@@ -64,10 +64,12 @@ ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT = range(4)
 NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
 NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
 # impact log columns; EV_X, EV_Y, EV_T_PEAK, EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A
-# into B) are taken at the step of the episode's peak normal force
+# into B) are taken at the step of the episode's peak normal force; EV_PEAK_LENGTH: the longest
+# contact line of the episode, m (its normal stiffness k_N·length: the automatic contact step
+# is checked against it, assembly/contact.py: observed_contact_omega)
 EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
-EV_FT_PEAK, EV_NX, EV_NY = range(11, 14)
-EV_COLUMNS = 14
+EV_FT_PEAK, EV_NX, EV_NY, EV_PEAK_LENGTH = range(11, 15)
+EV_COLUMNS = 15
 
 
 @kernel(inline="always")
@@ -313,6 +315,8 @@ def contact_forces(
                 events[e, EV_PEAK_AREA] = area
             if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:
                 events[e, EV_PEAK_DEPTH] = frame[DEPTH]
+            if frame[LENGTH] > events[e, EV_PEAK_LENGTH]:
+                events[e, EV_PEAK_LENGTH] = frame[LENGTH]
             if slipping:
                 events[e, EV_SLID] = 1.0
     n_live[0] = in_contact
