@@ -642,7 +642,7 @@ def _yielding_summary(y: Any) -> list[dict[str, Any]]:
 def _print_summary(s: dict[str, Any]) -> None:
     out.print(f"[bold]{escape(s['status'])}[/bold]  →  {escape(str(s['output']))}")
     if s["integrator"] == "hybrid":
-        how = (f"hybrid: {s['exact_substeps']:,} exact steps of ≤ {s['substep_s']:.4g} s, "
+        how = (f"hybrid: {s['exact_substeps']:,} exact steps of ≤ {2 * s['substep_s']:.4g} s, "
                f"{s['cdm_steps']:,} CDM steps of {s['dt_s']:.4g} s")  # fmt: skip
     else:
         how = f"{s['integrator']}, Δt = {s['dt_s']:.4g} s"
@@ -801,8 +801,9 @@ def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
     out.print(f"  Δt = {a['dt_s']:.4g} s: {why}", markup=False)
     if a["integrator"] == "hybrid":
         out.print(
-            f"  integrator: hybrid — {a['steps']:,} exact substeps of {a['substep_s']:.4g} s while no contact is "
-            f"possible; the CDM at Δt where one is ({a['cdm_steps_per_substep']:,} steps per substep; "
+            f"  integrator: hybrid — {a['steps']:,} exact steps while no contact is possible ({a['substeps']:,} "
+            f"substeps of {a['substep_s']:.4g} s, two at once between output and record samples); the CDM at Δt "
+            f"where one is ({a['cdm_steps_per_substep']:,} steps per substep; "
             f"{a['steps_of_dt']:,} steps of Δt would span the whole {a['duration_s']:g} s)",
             markup=False,
         )

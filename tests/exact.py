@@ -14,8 +14,9 @@ import numpy as np
 import scipy.linalg
 
 
-def exact_response(mass, stiffness, damping, influence, ground, ground_dt, substeps, n_samples):
-    """Displacements (n_samples, n_dof) at t = k·ground_dt/substeps, exact for linear a_g.
+def exact_response(mass, stiffness, damping, influence, ground, ground_dt, substeps, n_samples, velocities=False):
+    """Displacements (n_samples, n_dof) at t = k·ground_dt/substeps, exact for linear a_g
+    (and the velocities, the same shape, if `velocities`).
 
     mass (n,), stiffness and damping (n, n), influence (n, 2) maps ground X, Y to DOFs,
     ground (m, 2) m/s² sampled every ground_dt (zero after the last sample).
@@ -39,9 +40,9 @@ def exact_response(mass, stiffness, damping, influence, ground, ground_dt, subst
     t_rec = np.arange(ground.shape[0]) * ground_dt
     ag = np.column_stack([np.interp(t_fine, t_rec, ground[:, k], right=0.0) for k in range(2)])
     x = np.zeros(2 * n)
-    out = np.empty((n_samples, n))
+    out = np.empty((n_samples, 2 * n))
     out[0] = 0.0
     for k in range(n_samples - 1):
         x = phi @ x + g0 @ ag[k] + g1 @ (ag[k + 1] - ag[k])
-        out[k + 1] = x[:n]
-    return out
+        out[k + 1] = x
+    return (out[:, :n], out[:, n:]) if velocities else out[:, :n]

@@ -67,7 +67,10 @@ def test_validate_prints_periods_and_time_step():
     assert dt_line.startswith("  Δt = 2.671e-06 s: auto, 0.00625 × 2/ω_contact — the contact limit governs (0.0004275 s; "
                               "the structure's: 0.01219 s, building right)")  # fmt: skip
     (hybrid,) = [ln for ln in lines if ln.startswith("  integrator: ")]
-    assert f"hybrid — {a['steps']:,} exact substeps of 0.001111 s" in hybrid and a["steps"] == 30600
+    # 30,600 substeps of 1/9 of the 0.01 s record (and output) interval, taken as 4 double
+    # and 1 single step per interval where nothing can touch: 5 × 3,400 steps
+    assert a["substeps"] == 30600 and a["steps"] == 17000
+    assert f"hybrid — {a['steps']:,} exact steps while no contact is possible (30,600 substeps of 0.001111 s" in hybrid
     assert f"{a['steps_of_dt']:,} steps of Δt would span the whole 34 s" in hybrid
     assert any(ln.startswith("excitation: ") and ln.endswith("PGA X 0.526 g, Y 0.471 g") for ln in lines)
     assert max(map(len, lines)) > 80  # long lines kept whole

@@ -46,10 +46,12 @@ def test_hybrid_without_contact_takes_the_substeps_validate_announces():
     model = one_building("auto")
     plan = pound.describe(model)["analysis"]
     assert plan["integrator"] == "hybrid"
-    assert plan["steps"] * plan["substep_s"] == pytest.approx(2.0, rel=1e-9)
-    assert plan["steps"] * plan["cdm_steps_per_substep"] == plan["steps_of_dt"]
+    assert plan["substeps"] * plan["substep_s"] == pytest.approx(2.0, rel=1e-9)
+    assert plan["substeps"] * plan["cdm_steps_per_substep"] == plan["steps_of_dt"]
+    assert plan["steps"] < plan["substeps"]  # two substeps at once between output and record samples
     d = pound.run_model(model).diagnostics
     assert (d["integrator"], d["steps"], d["exact_substeps"], d["cdm_steps"]) == ("hybrid", plan["steps"], plan["steps"], 0)
+    assert d["exact_steps_of_dt"] == plan["steps_of_dt"]
 
 
 @pytest.mark.parametrize("duration", [14.583, 16.0], ids=["ends-in-contact", "ends-exact"])

@@ -5,7 +5,9 @@ While every pair of bodies is apart by more than it can close within the horizon
 buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
 interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
 error; the peaks between two exact states come from the cubic through them (peaks.py).
-When a contact may begin within 2h (bounding
+Where nothing can touch or yield within 4h and no output or record sample falls inside,
+two substeps are taken as one (Φ of 2h): the substep grid, on which the approach below
+starts, is unchanged. When a contact may begin within 2h (bounding
 boxes widened by what velocity and acceleration can add), the exact propagation goes on in
 steps of h/2, h/4, … h/2^L (the approach levels), halving while the outlines could touch
 within two steps (contact.contact_ruled_out_within), and hands the state to the CDM of
@@ -23,14 +25,18 @@ Hand-over (both second-order consistent):
 - exact → CDM at t_k: v_{k−½} = v_k − (Δt/2)·a_k, with a_k from the equation of motion
   (no contact force: none is possible yet); C·v_{k−½} and K·u_k from the storey kernel.
 - CDM → exact at t_n: v_n = v_{n−½} + Δv_n/2, Δv_n from one more CDM residual (no contact).
-Energy keeps one trapezoidal account across both: each hand-over closes the interval it
-ends and marks the instant as counted.
+Energy keeps one account across both: each hand-over closes the interval it ends and marks
+the instant as counted; exact steps integrate the powers by the end-corrected trapezoidal
+rule (exact_point), the CDM by the trapezoidal rule.
 """
 
 from __future__ import annotations
 
 from .cdm import (
+    ACC_DAMPING,
+    ACC_DP_DAMPING,
     ACC_FRESH,
+    ACC_INPUT,
     ACC_HYSTERETIC,
     STATUS_DIVERGED,
     STATUS_OK,
@@ -82,18 +88,24 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bott
 @kernel
 def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground, ground_dt,
                 g, acc, storey_axes, centre, col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp,
-                peak_acc, kept, between, first):  # fmt: skip
+                peak_acc, kept, between, first, rates):  # fmt: skip
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
-    accounted for (trapezoidal), the peaks. When that last state was the previous exact point
+    accounted for (trapezoidal; over an exact step, end-corrected with the powers' rates,
+    ∫p = h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁), fourth order), the peaks. When that last state was the previous exact point
     (an open account: no hand-over since), the peaks include those of the step between
     (peaks_between, from what kept and between hold of that state; first: the storeys' first
-    columns). Returns
-    the ground acceleration (X, Y) at t."""
+    columns); for the accelerations' it needs their rates, ȧ = −M⁻¹(K·v + C·a_rel) (the
+    ground's own rate drops out: a_abs depends on u and v alone), left in rates[2] (rates[0],
+    rates[1]: K·a_rel, C·a_rel). Returns the ground acceleration (X, Y) at t."""
     smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
     agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
                            ground_dt, g)  # fmt: skip
     n_dof = mass.size
+    storey_matvec(a_rel, storey_k, bottom, top, rates[0])
+    damping_force(a_rel, rates[0], mass, damping, n_dof, rates[1])
+    for d in range(n_dof):
+        rates[2, d] = -(kv[d] + rates[1, d]) / mass[d]
     p_in = 0.0
     p_damp = 0.0
     for d in range(0, n_dof, 3):
@@ -101,10 +113,27 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     for d in range(n_dof):
         p_damp += v[d] * cv[d]
     accumulate_energy(acc, gap, p_in, p_damp, 0.0)
+    # the powers' rates: ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel) (a_g linear over the step), ṗ_damp = 2·a_relᵀ·C·v
+    dp_damp = 0.0
+    for d in range(n_dof):
+        dp_damp += 2.0 * a_rel[d] * cv[d]
+    if smooth:
+        a0x, a0y = ground_at(t - gap, ground, ground_dt)
+        sx = (agx - a0x) / gap
+        sy = (agy - a0y) / gap
+        dp_in0 = 0.0
+        dp_in1 = 0.0
+        for d in range(0, n_dof, 3):
+            dp_in0 -= mass[d] * (sx * kept[1, d] + a0x * (kept[2, d] - a0x) + sy * kept[1, d + 1]
+                                 + a0y * (kept[2, d + 1] - a0y))  # fmt: skip
+            dp_in1 -= mass[d] * (sx * v[d] + agx * a_rel[d] + sy * v[d + 1] + agy * a_rel[d + 1])
+        acc[ACC_INPUT] += gap * gap / 12.0 * (dp_in0 - dp_in1)
+        acc[ACC_DAMPING] += gap * gap / 12.0 * (acc[ACC_DP_DAMPING] - dp_damp)
+    acc[ACC_DP_DAMPING] = dp_damp
     update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
                  peak_rot, peak_disp, peak_acc)  # fmt: skip
-    peaks_between(gap, smooth, u, v, n_dof, bottom, top, storey_axes, centre, col_arm, first, storey_work, kept,
-                  between, peak_col, peak_rot, peak_disp)  # fmt: skip
+    peaks_between(gap, smooth, u, v, a_abs, rates[2], n_dof, bottom, top, storey_axes, centre, col_arm, first,
+                  storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
     return agx, agy
 
 
@@ -161,8 +190,10 @@ def hybrid_advance(
     k_start, k_stop, k_end, h, sub, sub_y, binv_y, stride_h, u_limit,
     # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
     # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
-    # first: what peaks_between keeps of the last exact state, and the storeys' first columns
+    # first: what peaks_between keeps of the last exact state, and the storeys' first columns;
+    # rates: exact_point's work (3, n_dof + 3); phi2, g02, g12: Φ, Γ₀, Γ₁ of a double substep 2h
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
+    rates, phi2, g02, g12,
     # everything cdm.advance takes after its first five arguments
     mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -201,7 +232,12 @@ def hybrid_advance(
     fine = 1 << levels  # finest exact steps per substep
     q = sub // fine  # CDM steps per finest exact step
     h_fine = h / fine
+    per_record = int(round(ground_dt / h))  # substeps per record interval
+    skip = False  # the last substep was a double one: this k is already passed
     for k in range(k_start, k_stop):
+        if skip:
+            skip = False
+            continue
         t = k * h
         if mode[0] == MODE_EXACT:
             # the state at t_k: forces, energy, peaks, output
@@ -212,7 +248,7 @@ def hybrid_advance(
             agx, agy = exact_point(t, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                                    col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                                   between, first)  # fmt: skip
+                                   between, first, rates)  # fmt: skip
             e_plastic = 0.0
             if has_members:
                 member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
@@ -226,6 +262,25 @@ def hybrid_advance(
                     return status, k
             if k == k_end:
                 return STATUS_OK, k + 1
+            # a double substep 2h where no output sample, record sample, call's end or the
+            # analysis' end falls inside it, and nothing can touch or yield within 2·2h
+            if (k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
+                    and yielded == 0
+                    and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
+                                                                   geometry, params, broad))
+                    and not (has_members and yield_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
+                                                                   members, plastic))):  # fmt: skip
+                propagate_elastic(t, 2.0 * h, u, v_exact, phi2, g02, g12, dof_start, dof_count, ground, ground_dt,
+                                  xbuf, ybuf, has_members, u_static)  # fmt: skip
+                gap[0] = 2.0 * h
+                counters[CNT_EXACT] += 1
+                counters[CNT_EXACT_SPAN] += 2 * sub
+                for d in range(n_dof):
+                    if not abs(u[d]) <= u_limit:
+                        counters[CNT_FAILED_STEP] = (k + 2) * sub
+                        return STATUS_DIVERGED, k + 2
+                skip = True
+                continue
             contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
                                                                  params, broad)  # fmt: skip
             may_yield = has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
@@ -321,7 +376,7 @@ def hybrid_advance(
                 exact_point(t + pos * h_fine, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping,
                             storey_k, storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                             col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                            between, first)  # fmt: skip
+                            between, first, rates)  # fmt: skip
                 if level > 1 and pos % (2 * size) == 0:
                     level -= 1  # try the coarser step: the next pass checks it
                 continue
@@ -362,7 +417,7 @@ def hybrid_advance(
             exact_point(t_pos, 0.0, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                         storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre, col_storey,
                         col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept, between,
-                        first)  # fmt: skip
+                        first, rates)  # fmt: skip
     return STATUS_OK, k_stop
 
 

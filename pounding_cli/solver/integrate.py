@@ -369,8 +369,9 @@ def simulate(
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
                       np.zeros(phi.shape[2]), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
-                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((2, n_dof + 3)),
-                      *between_arrays(structure.column_storey, col_arm, n_storeys))  # fmt: skip
+                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((4, n_dof + 3)),
+                      *between_arrays(structure.column_storey, col_arm, n_storeys), np.zeros((3, n_dof + 3)),
+                      *building_propagators(blocks, damping_dense, structure.mass, starts, counts, 2 * h))  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
@@ -387,6 +388,9 @@ def simulate(
             return status, done
 
     chunk = max(1, chunk // unit)
+    if substep > 0:  # chunks end at output samples, never inside a double substep
+        per_output = stride // substep
+        chunk = max(per_output, chunk // per_output * per_output)
     t0 = time.perf_counter()
     advance(0, 0)  # nothing to do: compiles the kernel, or loads it from numba's cache
     compile_time = time.perf_counter() - t0

@@ -124,15 +124,16 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 
 @kernel
-def peaks_between(h, smooth, u, v, n_dof, storey_bottom, storey_top, storey_axes, centre, col_arm, first,
-                  storey_work, kept, between, peak_col, peak_rot, peak_disp):  # fmt: skip
-    """After update_peaks at an exact state (u, v): if `smooth`, the step of h s since the
-    previous exact state was itself exact, and the running peaks of the column deflections,
-    storey twists and floor displacements rise to the largest values of their cubic Hermite
-    interpolants over it; then (u, v) becomes the previous exact state.
+def peaks_between(h, smooth, u, v, a_abs, jerk, n_dof, storey_bottom, storey_top, storey_axes, centre, col_arm,
+                  first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
+    """After update_peaks at an exact state (u, v) with absolute accelerations a_abs and their
+    rates `jerk`: if `smooth`, the step of h s since the previous exact state was itself
+    exact, and the running peaks of the column deflections, storey twists, floor displacements
+    and absolute floor accelerations rise to the largest values of their cubic Hermite
+    interpolants over it; then the state becomes the previous exact state.
 
     storey_work holds the storey deflections at u (update_peaks has just filled it); kept
-    (2, n_dof + 3) the previous state's u and v; between (n_storeys, BT_COLUMNS) what the BT_
+    (4, n_dof + 3) the previous state's u, v, a_abs and jerk; between (n_storeys, BT_COLUMNS) what the BT_
     columns say; first the storeys' first columns (between_arrays). A storey's columns are
     looked at only where HERMITE_ARM's bound for the whole storey (its deflection plus its
     largest arm times its twist) passes the lowest of their peaks: most steps of most storeys
@@ -171,6 +172,9 @@ def peaks_between(h, smooth, u, v, n_dof, storey_bottom, storey_top, storey_axes
     if smooth:
         for d in range(n_dof):
             peak_disp[d] = hermite_peak(kept[0, d], kept[1, d], u[d], v[d], h, peak_disp[d])
+            peak_acc[d] = hermite_peak(kept[2, d], kept[3, d], a_abs[d], jerk[d], h, peak_acc[d])
     for d in range(n_dof):
         kept[0, d] = u[d]
         kept[1, d] = v[d]
+        kept[2, d] = a_abs[d]
+        kept[3, d] = jerk[d]
