@@ -156,3 +156,24 @@ def test_input_sensitivity_of_a_linear_scene_is_the_perturbation_itself():
     assert "Scaling the record by 1 + 0.0001 changes peak deflections by 1.0e-04" in markdown([report])
     (row,) = table_rows([report])
     assert row["input_sensitivity"] == report.sensitivity.peak_deflection and row["error_floor"] == report.floor
+
+
+def test_front_counts_one_run_once():
+    """on_front: a setting beaten on time and error is off the front; two settings that take
+    the same steps and give the same errors (the contact step scaled in a scene without
+    contact) are one run, whose timings differ by noise alone: neither pushes the other off."""
+    import dataclasses
+
+    from pounding_cli.bench.metrics import Errors
+    from pounding_cli.bench.run import Row, SceneReport, Setting, on_front
+
+    def row(name, steps, wall, error, integrator="hybrid"):
+        return Row("s", Setting(name, integrator), steps, 0, wall, Errors(error, error, 0.0, 0, 0.0))
+
+    rows = [row("default", 100, 0.0205, 1.3e-5), row("twin", 100, 0.0203, 1.3e-5),
+            row("faster, worse", 60, 0.0127, 1.4e-5), row("slower, worse", 300, 0.05, 2e-5),
+            row("beaten", 120, 0.03, 1.3e-5)]  # fmt: skip
+    report = SceneReport("s", Setting("ref", "cdm"), 1000, Errors(0.0, 0.0, 0.0, 0, 0.0), rows)
+    assert on_front(report) == {"default", "twin", "faster, worse"}
+    rows[1] = row("twin", 100, 0.0203, 1.2e-5)  # a different run: it beats the default
+    assert on_front(dataclasses.replace(report, rows=rows)) == {"twin", "faster, worse"}

@@ -130,11 +130,12 @@ def test_face_to_face_impacts_match_an_independent_solution(integrator):
     impact), the same impact count. The reference samples every 10 µs (its peak-force
     sampling error is < 1e-4). Peak displacements, closer:
     - the CDM (every step at Δt = 18 µs) within 1e-4 (measured 3e-6);
-    - the hybrid (the default) within 1e-5 (measured +1.5e-7, +1.9e-7): while no contact is
-      possible it takes exact substeps h = 1.67 ms (ω_max·h ≤ 0.2, docs/theory.md §6) and the
-      peak between two of them from the cubic Hermite interpolant of their states, whose
-      error is at most (ω·h)⁴/384 = 4e-6 of a mode's amplitude at ω_max (sampled at the
-      substeps alone, the peaks were 6.0e-4 and 1.2e-3 low)."""
+    - the hybrid (the default) within 1e-5 (measured −3.1e-7, −4.0e-6): while no contact is
+      possible it takes exact substeps h = 1.67 ms (ω_max·h ≤ 0.2, docs/theory.md §6), two at
+      once where nothing can touch, and the peak between two exact states from the cubic
+      Hermite interpolant through them, whose error is at most (ω·2h)⁴/384 = 6.7e-5 of a
+      mode's amplitude at ω_max (sampled at the substeps alone, the peaks were 6.0e-4 and
+      1.2e-3 low; with single substeps and the cubic, +1.5e-7 and +1.9e-7)."""
     doc = _face_to_face_doc()
     doc["analysis"]["integrator"] = integrator
     loaded = load_doc(doc)

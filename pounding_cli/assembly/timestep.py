@@ -43,7 +43,7 @@ CONTACT_DT_FRACTION = 0.00625
 is second order in Δt (the contact start and the break-away from stick placed inside the
 step, docs/theory.md §10), but impacts amplify small differences, so the peaks of the
 paper's Kobe example (21–25 impacts) converge only from about this step: against a converged
-run they were 1.8 % off at 0.0125, 0.23 % at 0.00625, 0.19 % at 0.003125 (docs/bench.md,
+run they were 1.8 % off at 0.0125, 0.23 % at 0.00625, 0.20 % at 0.003125 (docs/bench.md,
 "The Kobe example")."""
 
 YIELD_DT_FRACTION = 0.0125
