@@ -31,11 +31,11 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
-from .assembly.timestep import governing_rule, stability_limit
+from .assembly.timestep import HYBRID_SAMPLING, governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
 from .interrupts import terminate_as_interrupt
-from .model import LoadedModel, load_model
+from .model import Analysis, LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
 
@@ -77,17 +77,29 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
         system = assemble(loaded)
         contact = contact_arrays(loaded, system.buildings)
         ground = ground_motion(loaded)
-        def regrid(omega_step: float) -> TimeGrid:
-            return time_grid(
-                loaded.model.analysis, system.omega_max, ground.duration, str(loaded.source), contact.omega_max,
-                ground.dt, yielding=system.members.top.size > 0, omega_contact_step=omega_step,
-            )  # fmt: skip
-
-        grid = regrid(contact.omega_step)
-    auto = loaded.model.analysis.dt == "auto" and contact.n_pairs > 0
-    scene = Scene(loaded, system, contact, ground, grid, regrid if auto else None)
+        grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
+    scene = Scene(loaded, system, contact, ground, grid, regrid)
     limits.check_run(resource_run(scene), resource_size(scene), loaded.source)
     return scene
+
+
+def scene_grid(
+    analysis: Analysis, source: str, system: System, contact: ContactArrays, ground: GroundMotion,
+    dt_fraction: float | None = None, sampling: float = HYBRID_SAMPLING, dt_scale: float = 1.0,
+) -> tuple[TimeGrid, Callable[[float], TimeGrid] | None]:
+    """The time grid of an analysis (timestep.time_grid; dt_fraction, sampling and dt_scale as
+    there, for `pound bench`), its automatic contact step following the likely contacts
+    (contact.omega_step); and, where that step is automatic and contact is possible, the
+    function that makes the grid for another contact ω (rad/s), with which execute repeats a
+    run that met a stiffer contact (None otherwise)."""
+    def regrid(omega_step: float) -> TimeGrid:
+        return time_grid(
+            analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction, sampling,
+            yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
+        )  # fmt: skip
+
+    automatic = analysis.dt == "auto" and dt_fraction is None and contact.n_pairs > 0
+    return regrid(contact.omega_step), regrid if automatic else None
 
 
 def resource_size(scene: Scene) -> limits.Size:
@@ -351,15 +363,13 @@ def execute(
     wall_time, compile_time = response.wall_time, response.compile_time
     seen = observed_contact_omega(scene.contact, response.events)
     reruns = 0
-    while scene.regrid is not None and seen > RERUN_MARGIN * 2.0 / grid.contact_step_limit:
+    while scene.regrid is not None and reruns <= MAX_RERUNS and seen > RERUN_MARGIN * grid.contact_step_omega:
         reruns += 1
         grid = scene.regrid(scene.contact.omega_max if reruns > MAX_RERUNS else min(seen, scene.contact.omega_max))
         response = integrate(grid)
         wall_time += response.wall_time
         compile_time += response.compile_time
         seen = max(seen, observed_contact_omega(scene.contact, response.events))
-        if reruns > MAX_RERUNS:
-            break
     diagnostics = {
         "integrator": grid.integrator,
         "dt": grid.dt,
@@ -378,7 +388,7 @@ def execute(
         "impacts": response.events_total,
         "impacts_logged": int(response.events.shape[0]),
         "n_dof": system.n_dof,
-        "contact_omega_step": 2.0 / grid.contact_step_limit,
+        "contact_omega_step": grid.contact_step_omega,
         "contact_omega_seen": seen,
         "contact_reruns": reruns,
         "wall_time_s": wall_time,

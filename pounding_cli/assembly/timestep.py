@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
-from typing import Literal
 
 from ..errors import InputError
 from ..model import Analysis
@@ -79,6 +79,11 @@ class TimeGrid:
     @property
     def integrator(self) -> Literal["cdm", "hybrid"]:
         return "hybrid" if self.substep else "cdm"
+
+    @property
+    def contact_step_omega(self) -> float:
+        """ω of the likely contacts the automatic contact step followed, rad/s (0 without contact)."""
+        return 2.0 / self.contact_step_limit
 
     @property
     def yield_dt(self) -> float:

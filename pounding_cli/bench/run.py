@@ -9,8 +9,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Callable
 
-from ..api import Scene, execute, prepare
-from ..assembly.timestep import HYBRID_SAMPLING, TimeGrid, time_grid
+from ..api import Scene, execute, prepare, scene_grid
+from ..assembly.timestep import HYBRID_SAMPLING
 from ..results import RunResult
 from .metrics import Errors, compare
 
@@ -94,15 +94,9 @@ def with_setting(scene: Scene, setting: Setting, duration: float | None = None) 
         update={"integrator": setting.integrator, "dt": setting.dt if setting.dt is not None else "auto",
                 "duration": duration if duration is not None else scene.loaded.model.analysis.duration}  # fmt: skip
     )
-    def regrid(omega_step: float) -> TimeGrid:
-        return time_grid(
-            analysis, scene.system.omega_max, scene.ground.duration, str(scene.loaded.source),
-            scene.contact.omega_max, scene.ground.dt, setting.dt_fraction, setting.sampling,
-            yielding=scene.system.members.top.size > 0, dt_scale=setting.dt_scale, omega_contact_step=omega_step,
-        )  # fmt: skip
-
-    auto = setting.dt is None and setting.dt_fraction is None and scene.contact.n_pairs > 0
-    return dataclasses.replace(scene, grid=regrid(scene.contact.omega_step), regrid=regrid if auto else None)
+    grid, regrid = scene_grid(analysis, str(scene.loaded.source), scene.system, scene.contact, scene.ground,
+                              setting.dt_fraction, setting.sampling, setting.dt_scale)  # fmt: skip
+    return dataclasses.replace(scene, grid=grid, regrid=regrid)
 
 
 def timed(scene: Scene, repeats: int) -> tuple[RunResult, float]:

@@ -108,15 +108,14 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
         rates[2, d] = -(kv[d] + rates[1, d]) / mass[d]
     p_in = 0.0
     p_damp = 0.0
+    dp_damp = 0.0  # its rate, 2·a_relᵀ·C·v (C symmetric)
     for d in range(0, n_dof, 3):
         p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
     for d in range(n_dof):
         p_damp += v[d] * cv[d]
-    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
-    # the powers' rates: ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel) (a_g linear over the step), ṗ_damp = 2·a_relᵀ·C·v
-    dp_damp = 0.0
-    for d in range(n_dof):
         dp_damp += 2.0 * a_rel[d] * cv[d]
+    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
+    # the input power's rate ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel), a_g linear over the step
     if smooth:
         a0x, a0y = ground_at(t - gap, ground, ground_dt)
         sx = (agx - a0x) / gap
@@ -262,41 +261,39 @@ def hybrid_advance(
                     return status, k
             if k == k_end:
                 return STATUS_OK, k + 1
-            # a double substep 2h where no output sample, record sample, call's end or the
-            # analysis' end falls inside it, and nothing can touch or yield within 2·2h
-            if (k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
-                    and yielded == 0
-                    and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
-                                                                   geometry, params, broad))
-                    and not (has_members and yield_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
-                                                                   members, plastic))):  # fmt: skip
-                propagate_elastic(t, 2.0 * h, u, v_exact, phi2, g02, g12, dof_start, dof_count, ground, ground_dt,
-                                  xbuf, ybuf, has_members, u_static)  # fmt: skip
-                gap[0] = 2.0 * h
-                counters[CNT_EXACT] += 1
-                counters[CNT_EXACT_SPAN] += 2 * sub
-                for d in range(n_dof):
-                    if not abs(u[d]) <= u_limit:
-                        counters[CNT_FAILED_STEP] = (k + 2) * sub
-                        return STATUS_DIVERGED, k + 2
-                skip = True
-                continue
-            contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
-                                                                 params, broad)  # fmt: skip
-            may_yield = has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel,
-                                                                              members, plastic))  # fmt: skip
+            # two substeps at once where no output sample, record sample, call's end or the
+            # analysis' end falls inside them, and nothing can touch or yield within 2·2h
+            double = (k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
+                      and yielded == 0
+                      and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
+                                                                     geometry, params, broad))
+                      and not (has_members and yield_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
+                                                                     members, plastic)))  # fmt: skip
+            contact_soon = False
+            may_yield = False
+            if not double:
+                contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v_exact, a_rel, geometry,
+                                                                     params, broad)  # fmt: skip
+                may_yield = has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v_exact,
+                                                                                  a_rel, members, plastic))  # fmt: skip
             if not (contact_soon or may_yield):
-                propagate_elastic(t, h, u, v_exact, phi[0], g0[0], g1[0], dof_start, dof_count, ground, ground_dt,
-                                  xbuf, ybuf, has_members, u_static)  # fmt: skip
-                gap[0] = h
+                span = 2 if double else 1
+                if double:
+                    propagate_elastic(t, 2.0 * h, u, v_exact, phi2, g02, g12, dof_start, dof_count, ground,
+                                      ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                else:
+                    propagate_elastic(t, h, u, v_exact, phi[0], g0[0], g1[0], dof_start, dof_count, ground,
+                                      ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                gap[0] = span * h
                 counters[CNT_EXACT] += 1
-                counters[CNT_EXACT_SPAN] += sub
+                counters[CNT_EXACT_SPAN] += span * sub
                 # a bad value stops the run at the substep that made it (a non-finite velocity
                 # makes the displacement non-finite within the same substep: propagate mixes them)
                 for d in range(n_dof):
                     if not abs(u[d]) <= u_limit:
-                        counters[CNT_FAILED_STEP] = (k + 1) * sub
-                        return STATUS_DIVERGED, k + 1
+                        counters[CNT_FAILED_STEP] = (k + span) * sub
+                        return STATUS_DIVERGED, k + span
+                skip = double
                 continue
             if contact_soon and levels > 0 and not may_yield:
                 mode[0] = MODE_APPROACH  # finer exact steps first

@@ -2,11 +2,12 @@
 accelerations.
 
 Peaks are taken at every state the integrator reaches (update_peaks). Where it reaches them
-by exact propagation the steps are long (ω_max·h up to 0.2) and a peak falling between two
+by exact propagation the steps are long (ω_max·h up to 0.4) and a peak falling between two
 states would be missed by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8 of its size. There the motion
 between the states is smooth and both ends carry exact displacements and velocities, so
 peaks_between also takes the largest value of the cubic Hermite interpolant of each
-deflection over the step: its error is (ω·h)⁴/384 of the amplitude, 4·10⁻⁶ at ω·h = 0.2.
+deflection, displacement and absolute acceleration over the step: its error is (ω·h)⁴/384
+of the amplitude, 4·10⁻⁶ at ω·h = 0.2, 6.7·10⁻⁵ over the hybrid's double substeps (0.4).
 """
 
 from __future__ import annotations
