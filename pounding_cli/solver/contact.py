@@ -13,6 +13,13 @@ B, tangent t = ẑ × n); then the impact law acting at c:
     stick while |F_T,total| ≤ μ_s·F_N; on exceeding it the contact slips with |F_T| = μ_k·F_N
     and keeps slipping (limit μ_k·F_N) until the trial force falls within μ_k·F_N again.
 
+The dashpot switches on at the touch, a share s of the last step ago (share_in_contact), so
+the force jumps there from 0 to c_N·s. The CDM applies a step's force over the cell
+[t_n − Δt/2, t_n + Δt/2]; at an episode's first step the dashpot term is weighted by s + ½,
+its impulse from the touch to the cell's end (including the part in the cell before, which
+had no force). Unweighted, the impulse was off by up to c_N·s·Δt/2 at every touch, and the
+rebound converged to its restitution at first order in Δt; weighted, at second.
+
 The force on B is F_N·n + F_T·t, on A its opposite; on a floor it becomes (F_x, F_y, r × F)
 with r = c − G (G the floor's displaced mass centre). The tangential state resets when the
 overlap vanishes. Outlines move rigidly, P ↦ G + u + R(θ)·(P − G): the moment (c − G) × F
@@ -244,8 +251,10 @@ def contact_forces(
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
         slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
+        share = 1.0  # of the last step spent in contact; below 1 only at an episode's first step
         if state[p, ST_ACTIVE] == 0:
-            slip_t *= share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+            share = share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+            slip_t *= share
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_est)
         v_n = (vbx - vax) * nx + (vby - vay) * ny
@@ -254,6 +263,8 @@ def contact_forces(
         damping = c_n[p]
         if zeta[p] > 0.0:
             damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
+        if share < 1.0:
+            damping *= share + 0.5  # its impulse since the touch (module docstring)
         f_n = k_n[p] * area - damping * v_n
         if f_n < 0.0:
             f_n = 0.0
