@@ -14,18 +14,21 @@ add the plastic correction g = Σ Bᵀ·Q·(k_h ⊙ p) (B maps floor DOFs to D):
 is K·u − g. The equation of motion becomes M·ü + C·u̇ + K·u = p(t) + g + F_contact, with
 C = a0·M + a1·K the initial-stiffness Rayleigh damping.
 
-Return mapping (backward Euler, exact for a given total deflection): trial force
-f_tr = k_h ⊙ (δ − p); "independent": each axis clamped to ±f_h; "elliptical": if
-q = f_tr ⊘ f_h has |q| > 1, the force returns to the closest point of the yield ellipse
-(f_x/f_h,x)² + (f_y/f_h,y)² = 1 in the energy norm Σ Δf_i²/k_h,i (associative flow: Δp is
-normal to the ellipse), f_i = f_tr,i/(1 + λ·k_h,i/f_h,i²) with the scalar λ from a few Newton
-steps (closest_point_factors); when k_h,x/f_h,x² = k_h,y/f_h,y² (a round isolator, a square
-column) that is the radial return q ← q/|q|. Then p = δ − f/k_h. The dissipated energy of the
-increment is f·Δp, exact for the one-dimensional law (the force stays on the yield surface
-while p moves).
+Return mapping, exact along the straight path between two calls: trial force
+f_tr = k_h ⊙ (δ − p); "independent": each axis clamped to ±f_h (a 1D law's state depends on
+the end point only); "elliptical": if q = f_tr ⊘ f_h has |q| > 1, the path from the last
+deflection is followed: elastic until q reaches the yield ellipse (f_x/f_h,x)² + (f_y/f_h,y)² = 1,
+then on it with associative flow (ṗ normal to the ellipse in force space), q' = r − λ'·A·q,
+λ' = (q·r)/(qᵀA·q), a_i = k_h,i/f_h,i², r the path's normalised rate. For a circle
+(k_h,x/f_h,x² = k_h,y/f_h,y²: a round isolator, a square column) tan(β/2) of the angle β
+between q and r decays as exp(−|r|·s), in closed form; otherwise RK4 in short pieces. Then
+p = δ − f/k_h, and the dissipated energy is ∫f·dp along the same path. Only the path between
+the states is assumed (a chord), so the law converges at second order in the time step; a
+closest-point (backward-Euler) return of each increment, used before, converged at first
+(docs/theory.md §12).
 
 Energy: E_strain = ½·uᵀK·u − uᵀg + ½·Σ k_h ⊙ p² (the recoverable energy of both springs),
-E_hysteretic = Σ f·Δp. Nothing here allocates.
+E_hysteretic = Σ ∫f·dp. Nothing here allocates.
 """
 
 from __future__ import annotations
@@ -65,62 +68,133 @@ def scatter_member(m, fx, fy, bottom, top, arm_b, arm_t, axes, out):
     out[b + 2] -= arm_b[m, 0] * gy - arm_b[m, 1] * gx
 
 
-@kernel(inline="always")
-def closest_point_factors(qx, qy, ax, ay):
-    """(1 + λ·a_x, 1 + λ·a_y) for the closest point of the ellipse |q| = 1 to the trial
-    q = f_tr ⊘ f_h (|q| > 1) in the energy norm Σ Δf_i²/k_h,i, a_i = k_h,i/f_h,i²: the returned
-    force is f_i = f_tr,i/(1 + λ·a_i) with λ ≥ 0 the root of
-    h(λ) = Σ (q_i/(1 + λ·a_i))² − 1. h is convex and decreasing, so Newton's method from λ = 0
-    climbs to the root without overshooting; with a_x = a_y it is the radial return."""
-    q = np.sqrt(qx * qx + qy * qy)
-    if abs(ax - ay) <= 1e-12 * max(ax, ay):
-        return q, q
-    lam = 0.0
-    for _ in range(100):
-        bx = 1.0 + lam * ax
-        by = 1.0 + lam * ay
-        tx = qx / bx
-        ty = qy / by
-        h = tx * tx + ty * ty - 1.0
-        if h <= 1e-15:
-            break
-        slope = -2.0 * (tx * tx * ax / bx + ty * ty * ay / by)
-        lam -= h / slope
-    return 1.0 + lam * ax, 1.0 + lam * ay
+PLASTIC_SUBSTEP = 0.05
+"""The elliptical flow with unequal axes is integrated by RK4 in pieces of at most this
+normalised path length |r|·Δs times the axes' ratio max(a)/min(a) (the flow's fastest rate)."""
 
 
 @kernel(inline="always")
-def return_map(dx, dy, px, py, khx, khy, fhx, fhy, coupled):
-    """Plastic-spring force (f_x, f_y) and plastic deflection (p_x, p_y) after a step to the
-    total deflection (dx, dy) from plastic deflection (px, py); returns (fx, fy, px, py, yielded)."""
+def _flow_rate(qx, qy, rx, ry, ax, ay):
+    """dq/ds of the normalised force q = f ⊘ f_h on the ellipse |q| = 1 while the deflection
+    moves by r per unit s (normalised, r = k_h ⊙ Δδ ⊘ f_h): q' = r − λ'·A·q with
+    λ' = (q·r)/(qᵀA·q), A = diag(a_x, a_y), a_i = k_h,i/f_h,i² (associative flow: the
+    plastic rate is normal to the ellipse in force space); and the power dissipated per unit
+    s, f·p' = Σ (q_i·r_i − q_i·q_i')/a_i, J."""
+    lam = (qx * rx + qy * ry) / (ax * qx * qx + ay * qy * qy)
+    dqx = rx - lam * ax * qx
+    dqy = ry - lam * ay * qy
+    return dqx, dqy, (qx * (rx - dqx)) / ax + (qy * (ry - dqy)) / ay
+
+
+@kernel(inline="always")
+def return_map(d0x, d0y, dx, dy, px, py, khx, khy, fhx, fhy, coupled):
+    """Plastic-spring force (f_x, f_y) and plastic deflection (p_x, p_y) after the member's
+    deflection moved in a straight line from (d0x, d0y) to (dx, dy), from plastic deflection
+    (px, py); returns (fx, fy, px, py, dissipated J, yielded).
+
+    "independent": each axis clamped to ±f_h (exact: a 1D law depends on the end point only).
+    "elliptical": integrated exactly along the straight path: elastic up to the point where
+    q = f ⊘ f_h reaches the ellipse |q| = 1, then the flow q' = r − λ'·A·q on it (_flow_rate),
+    in closed form for a circle (a_x = a_y: a round bearing, a square column) and by RK4 in
+    pieces of PLASTIC_SUBSTEP otherwise. (A backward-Euler, closest-point return of the whole
+    increment is exact only for proportional loading: along a turning path its error is of
+    the order of the increment squared per step, first order in the time step overall.)"""
     fx = khx * (dx - px)
     fy = khy * (dy - py)
-    qx = fx / fhx
-    qy = fy / fhy
-    if coupled:
-        q2 = qx * qx + qy * qy
-        if q2 <= 1.0:
-            return fx, fy, px, py, False
-        lam_x, lam_y = closest_point_factors(qx, qy, khx / (fhx * fhx), khy / (fhy * fhy))
-        fx = fx / lam_x
-        fy = fy / lam_y
-        return fx, fy, dx - fx / khx, dy - fy / khy, True
-    yielded = False
-    if qx > 1.0 or qx < -1.0:
-        fx = fhx if qx > 0 else -fhx
-        px = dx - fx / khx
-        yielded = True
-    if qy > 1.0 or qy < -1.0:
-        fy = fhy if qy > 0 else -fhy
-        py = dy - fy / khy
-        yielded = True
-    return fx, fy, px, py, yielded
+    if not coupled:
+        yielded = False
+        px1 = px
+        py1 = py
+        if abs(fx) > fhx:
+            fx = fhx if fx > 0 else -fhx
+            px1 = dx - fx / khx
+            yielded = True
+        if abs(fy) > fhy:
+            fy = fhy if fy > 0 else -fhy
+            py1 = dy - fy / khy
+            yielded = True
+        return fx, fy, px1, py1, fx * (px1 - px) + fy * (py1 - py), yielded
+    q1x = fx / fhx
+    q1y = fy / fhy
+    if q1x * q1x + q1y * q1y <= 1.0:
+        return fx, fy, px, py, 0.0, False
+    ax = khx / (fhx * fhx)
+    ay = khy / (fhy * fhy)
+    # the start of the path in q and its normalised length r
+    qx = khx * (d0x - px) / fhx
+    qy = khy * (d0y - py) / fhy
+    rx = khx * (dx - d0x) / fhx
+    ry = khy * (dy - d0y) / fhy
+    rr = rx * rx + ry * ry
+    if rr == 0.0:  # no motion, the start outside the ellipse by rounding: onto it
+        size = np.sqrt(q1x * q1x + q1y * q1y)
+        fx = fhx * q1x / size
+        fy = fhy * q1y / size
+        return fx, fy, dx - fx / khx, dy - fy / khy, 0.0, True
+    c = qx * qx + qy * qy - 1.0
+    if c >= 0.0:  # on the ellipse already (or, by rounding, just past it): onto it
+        size = np.sqrt(qx * qx + qy * qy)
+        qx /= size
+        qy /= size
+        c = 0.0
+    b = qx * rx + qy * ry
+    # where the path leaves the ellipse: the root in [0, 1] of rr·s² + 2b·s + c (from the
+    # surface, s = 0 when moving out, the far side when moving in)
+    if b > 0.0:
+        s_yield = -c / (b + np.sqrt(b * b - rr * c))
+    else:
+        s_yield = (np.sqrt(b * b - rr * c) - b) / rr
+    s_yield = min(s_yield, 1.0)
+    qx += s_yield * rx
+    qy += s_yield * ry
+    rest = 1.0 - s_yield
+    if abs(ax - ay) <= 1e-12 * max(ax, ay):
+        # a circle: q' = r − (q·r)·q. With e = r/|r| and e⊥ = ẑ × e, q = cos β·e − sin β·e⊥,
+        # and tan(β/2) decays as exp(−|r|·s); f·p' = (q·r)/a, whose integral is
+        # (ln sin β₀ − ln sin β₁)/a.
+        norm = np.sqrt(rr)
+        ex = rx / norm
+        ey = ry / norm
+        size = np.sqrt(qx * qx + qy * qy)
+        cos0 = (qx * ex + qy * ey) / size
+        sin0 = (qx * ey - qy * ex) / size
+        length = norm * rest
+        tau0 = sin0 / (1.0 + cos0)  # cos0 ≥ 0: the path leaves the circle here
+        tau1 = tau0 * np.exp(-length)
+        cos1 = (1.0 - tau1 * tau1) / (1.0 + tau1 * tau1)
+        sin1 = 2.0 * tau1 / (1.0 + tau1 * tau1)
+        qx = cos1 * ex + sin1 * ey
+        qy = cos1 * ey - sin1 * ex
+        dissipated = (length + np.log((1.0 + tau1 * tau1) / (1.0 + tau0 * tau0))) / ax
+    else:
+        # the flow pulls q across the ellipse at up to max(a)/min(a)·|r| per unit s: pieces
+        # short in that measure keep RK4 accurate (and stable) on the stiff axis
+        stiff = max(ax, ay) / min(ax, ay)
+        pieces = max(1, int(np.ceil(np.sqrt(rr) * rest * stiff / PLASTIC_SUBSTEP)))
+        hs = rest / pieces
+        dissipated = 0.0
+        for _ in range(pieces):
+            k1x, k1y, w1 = _flow_rate(qx, qy, rx, ry, ax, ay)
+            k2x, k2y, w2 = _flow_rate(qx + 0.5 * hs * k1x, qy + 0.5 * hs * k1y, rx, ry, ax, ay)
+            k3x, k3y, w3 = _flow_rate(qx + 0.5 * hs * k2x, qy + 0.5 * hs * k2y, rx, ry, ax, ay)
+            k4x, k4y, w4 = _flow_rate(qx + hs * k3x, qy + hs * k3y, rx, ry, ax, ay)
+            qx += hs / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
+            qy += hs / 6.0 * (k1y + 2.0 * k2y + 2.0 * k3y + k4y)
+            dissipated += hs / 6.0 * (w1 + 2.0 * w2 + 2.0 * w3 + w4)
+            size = np.sqrt(qx * qx + qy * qy)  # back onto the ellipse (the flow keeps |q| = 1)
+            qx /= size
+            qy /= size
+    fx = fhx * qx
+    fy = fhy * qy
+    return fx, fy, dx - fx / khx, dy - fy / khy, dissipated, True
 
 
 @kernel
 def update_members(u, members, plastic, g):
-    """Return-map every member at the displacement u; add the change of k_h ⊙ p to the
-    plastic correction g. Returns (energy dissipated J, members that yielded)."""
+    """Return-map every member along the straight path from its deflection at the last call
+    (plastic[:, 2:4]) to its deflection at u; add the change of k_h ⊙ p to the plastic
+    correction g. plastic: (n_members, 4) p_x, p_y, then δ_x, δ_y at the last call, m.
+    Returns (energy dissipated J, members that yielded)."""
     bottom, top, arm_b, arm_t, axes, k0, kh, fh, coupled = members
     dissipated = 0.0
     n_yielded = 0
@@ -128,10 +202,13 @@ def update_members(u, members, plastic, g):
         dx, dy = member_deflection(m, u, bottom, top, arm_b, arm_t, axes)
         px0 = plastic[m, 0]
         py0 = plastic[m, 1]
-        fx, fy, px, py, yielded = return_map(dx, dy, px0, py0, kh[m, 0], kh[m, 1], fh[m, 0], fh[m, 1], coupled[m])
+        fx, fy, px, py, work, yielded = return_map(plastic[m, 2], plastic[m, 3], dx, dy, px0, py0, kh[m, 0],
+                                                   kh[m, 1], fh[m, 0], fh[m, 1], coupled[m])  # fmt: skip
+        plastic[m, 2] = dx
+        plastic[m, 3] = dy
         if yielded:
             n_yielded += 1
-            dissipated += fx * (px - px0) + fy * (py - py0)
+            dissipated += work
             plastic[m, 0] = px
             plastic[m, 1] = py
             scatter_member(m, kh[m, 0] * (px - px0), kh[m, 1] * (py - py0), bottom, top, arm_b, arm_t, axes, g)
@@ -209,13 +286,16 @@ def bilinear_response(deflection: np.ndarray, k: tuple[float, float], yield_forc
     alpha = np.asarray(post_yield_ratio, dtype=float)
     kh, fh = (1 - alpha) * k0, (1 - alpha) * np.asarray(yield_force, dtype=float)
     p = np.zeros(2)
+    last = np.zeros(2)
     forces = np.empty((len(deflection), 2))
     energy = np.empty(len(deflection))
     total = 0.0
     for i, (dx, dy) in enumerate(np.asarray(deflection, dtype=float)):
-        fx, fy, px, py, yielded = return_map(dx, dy, p[0], p[1], kh[0], kh[1], fh[0], fh[1], coupled)
+        fx, fy, px, py, work, yielded = return_map(last[0], last[1], dx, dy, p[0], p[1], kh[0], kh[1], fh[0], fh[1],
+                                                   coupled)  # fmt: skip
+        last[:] = dx, dy
         if yielded:
-            total += fx * (px - p[0]) + fy * (py - p[1])
+            total += work
             p[:] = px, py
         forces[i] = k0 * (dx, dy) - kh * p
         energy[i] = total

@@ -322,7 +322,7 @@ def simulate(
     n_members = mem.top.size
     member_bottom = np.where(mem.bottom < 0, n_dof // 3, mem.bottom).astype(np.int64)
     members = (member_bottom, mem.top, mem.arm_bottom, mem.arm_top, mem.axes, mem.k0, mem.kh, mem.fh, mem.coupled)
-    plastic = np.zeros((n_members, 2))
+    plastic = np.zeros((n_members, 4))  # p_x, p_y; δ_x, δ_y at the last return map
     g = np.zeros(n_dof + 3)
     out_member = np.full((n_out if n_members else 0, n_members, 4), np.nan)
     peak_member = np.zeros((n_members, 6))
