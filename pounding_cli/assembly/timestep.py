@@ -51,7 +51,7 @@ YIELD_DT_FRACTION = 0.0125
 the structure. The members' law is integrated exactly along each step's chord
 (solver/hysteresis.py), so the error is second order in this step: in the inelastic bench
 scene the peaks are within 3.6e-5 of a converged CDM at 0.0125, 2.0e-4 at 0.025 and 5.8e-4 at
-0.05 (docs/bench.md, "Inelastic columns and isolation"); with the closest-point return used
+0.05 (docs/bench.md, "This release"); with the closest-point return used
 before it was first order, 1.5e-3 at 0.0125."""
 
 HYBRID_SAMPLING = 0.2
