@@ -113,7 +113,7 @@ def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.nda
     still = np.zeros(n_dof + 3)
     now = np.zeros((n_pairs, len(kernel.NOW_COLUMNS)))
     forces = np.zeros(n_dof + 3)
-    kernel.contact_forces(0, 1.0, u, still, still, geometry, params, np.zeros((n_pairs, 4)), now,
+    kernel.contact_forces(0, 1.0, u, still, still, geometry, params, np.zeros((n_pairs, kernel.N_STATE)), now,
                           np.zeros((4, kernel.EV_COLUMNS)), np.zeros(1, dtype=np.int64), forces,
                           sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, False),
                           *kernel.buffers(int(c.body_poly.shape[1])))  # fmt: skip

@@ -13,12 +13,20 @@ B, tangent t = ẑ × n); then the impact law acting at c:
     stick while |F_T,total| ≤ μ_s·F_N; on exceeding it the contact slips with |F_T| = μ_k·F_N
     and keeps slipping (limit μ_k·F_N) until the trial force falls within μ_k·F_N again.
 
-The dashpot switches on at the touch, a share s of the last step ago (share_in_contact), so
-the force jumps there from 0 to c_N·s. The CDM applies a step's force over the cell
+The dashpot switches on at the touch, a share s of the last step ago (share_since_crossing),
+so the force jumps there from 0 to c_N·s. The CDM applies a step's force over the cell
 [t_n − Δt/2, t_n + Δt/2]; at an episode's first step the dashpot term is weighted by s + ½,
 its impulse from the touch to the cell's end (including the part in the cell before, which
 had no force). Unweighted, the impulse was off by up to c_N·s·Δt/2 at every touch, and the
 rebound converged to its restitution at first order in Δt; weighted, at second.
+
+The spring's slope jumps at a face-to-face touch (by k_N·L₀ times the closing speed, L₀ the
+contact line's length at zero depth) and where the force ends (the break-away, or the
+dashpot's pull cancelling the spring). The midpoint rule of the cells misses J·Δt²·(σ − ½)²/2
+of the impulse of a force whose slope changes by J a share σ of a step before the nearest
+grid point (kink_impulse): second order, but with a size set by where the kink falls in its
+step, which made impacts' results jump about as the grid moved. The first step of an episode
+and the first step after its force ended add it (docs/theory.md §10, "The kinks").
 
 The force on B is F_N·n + F_T·t, on A its opposite; on a floor it becomes (F_x, F_y, r × F)
 with r = c − G (G the floor's displaced mass centre). The tangential state resets when the
@@ -65,8 +73,10 @@ from .contact_geometry import (
     contact_frame_xy,
 )
 
-# pair state columns
-ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT = range(4)
+# pair state columns; ST_FX, ST_FY: the force on B at the episode's last step, N; ST_SLOPE: there
+# k_N·L₀, N/m, the normal force's rate per unit of depth where the overlap is about to vanish
+ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT, ST_FX, ST_FY, ST_SLOPE = range(7)
+N_STATE = 7
 # per-pair current values (also what is stored at the output interval)
 NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
 NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
@@ -165,6 +175,31 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
 
 
 @kernel(inline="always")
+def kink_impulse(fall, share):
+    """What the CDM's impulse misses, over Δt (N), of a normal force whose slope changes by
+    fall/Δt `share` of a step before the grid point t_n nearest to the kink: the midpoint
+    rule integrates a kinked force with an error fall·Δt·(share − ½)²/2 (module docstring)."""
+    return 0.5 * fall * (share - 0.5) ** 2
+
+
+@kernel(inline="always")
+def _add_end_impulse(fall, held, p, fa, fb, gax, gay, gbx, gby, dt, state, now, events, forces):
+    """Where pair p's normal force fell to zero `held` of a step after its last step (the
+    break-away, or the dashpot's pull cancelling the spring), falling by `fall` N over a step,
+    add what its last step missed (kink_impulse), at its action point and in the direction of
+    its last force (friction fades with the normal force)."""
+    if not (held > 0.0 and now[p, NOW_FN] > 0.0):
+        return
+    missed = kink_impulse(fall, held)
+    scale = missed / now[p, NOW_FN]
+    _apply(fb, scale * state[p, ST_FX], scale * state[p, ST_FY], now[p, NOW_X], now[p, NOW_Y], gbx, gby, forces)
+    _apply(fa, -scale * state[p, ST_FX], -scale * state[p, ST_FY], now[p, NOW_X], now[p, NOW_Y], gax, gay, forces)
+    e = int(state[p, ST_EVENT])
+    if e < events.shape[0]:
+        events[e, EV_IMPULSE] += missed * dt
+
+
+@kernel(inline="always")
 def _kinetic_shortfall(excess_before, excess_now):
     """Where stick gives way, the force drops from μ_s·F_N to μ_k·F_N at an instant t* inside
     the last step, located by the excess |F_T| − μ_s·F_N going from excess_before < 0 at the
@@ -227,12 +262,20 @@ def contact_forces(
                                     poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
         if not touching:
             if state[p, ST_ACTIVE] > 0:  # the episode ends (now holds values only during one)
+                # the impulse its last step's force missed until the break-away (module docstring)
+                g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+                held = 1.0 - share_since_crossing(g_now, g_before)
+                _add_end_impulse(state[p, ST_SLOPE] * (g_now - g_before), held, p, fa, fb, gax, gay, gbx, gby, dt,
+                                 state, now, events, forces)  # fmt: skip
                 e = int(state[p, ST_EVENT])
                 if e < events.shape[0]:
                     events[e, EV_T_END] = t_now
                 state[p, ST_ACTIVE] = 0.0
                 state[p, ST_FT] = 0.0
                 state[p, ST_SLIP] = 0.0
+                state[p, ST_FX] = 0.0
+                state[p, ST_FY] = 0.0
+                state[p, ST_SLOPE] = 0.0
                 for k in range(now.shape[1]):
                     now[p, k] = 0.0
             continue
@@ -252,8 +295,11 @@ def contact_forces(
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
         slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
         share = 1.0  # of the last step spent in contact; below 1 only at an episode's first step
+        deepening = 0.0  # over the last step, m
         if state[p, ST_ACTIVE] == 0:
-            share = share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+            g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+            share = share_since_crossing(g_now, g_before)
+            deepening = g_before - g_now
             slip_t *= share
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_est)
@@ -265,8 +311,18 @@ def contact_forces(
             damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
         if share < 1.0:
             damping *= share + 0.5  # its impulse since the touch (module docstring)
+        # k_N·L₀: L₀ = 2A/depth − length, the contact line's length extrapolated to zero depth
+        # (a face: its length; a corner: 0), from A = ∫ length d(depth) with the length linear
+        slope = 0.0
+        if frame[DEPTH] > 0.0:
+            slope = k_n[p] * min(frame[LENGTH], max(0.0, 2.0 * area / frame[DEPTH] - frame[LENGTH]))
         f_n = k_n[p] * area - damping * v_n
-        if f_n < 0.0:
+        if share < 1.0:  # the spring's kink at the touch (module docstring)
+            f_n += kink_impulse(slope * deepening, share)
+        if f_n < 0.0:  # the dashpot's pull cancels the spring: the force fell to zero within the step
+            if state[p, ST_ACTIVE] > 0:
+                _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
+                                 gay, gbx, gby, dt, state, now, events, forces)  # fmt: skip
             f_n = 0.0
         # tangential force: incremental spring, dashpot, Coulomb stick/slip
         spring = state[p, ST_FT] - k_t[p] * slip_t
@@ -292,6 +348,9 @@ def contact_forces(
         fy = f_n * ny + f_t * ty
         _apply(fb, fx, fy, cx, cy, gbx, gby, forces)
         _apply(fa, -fx, -fy, cx, cy, gax, gay, forces)
+        state[p, ST_FX] = fx
+        state[p, ST_FY] = fy
+        state[p, ST_SLOPE] = slope
         now[p, NOW_FN] = f_n
         now[p, NOW_FT] = f_t
         now[p, NOW_AREA] = area
@@ -458,18 +517,27 @@ def _outline_gap(a, b, u, v, back, geometry, poly_a, poly_b):
 
 
 @kernel
-def share_in_contact(a, b, dt, u, v_half, geometry, poly_a, poly_b):
-    """Share of the last step (0–1) that bodies a and b, overlapping now, spent in contact:
-    their signed gap went from g₀ ≥ 0 at the last step (u − Δt·v_{n−½}, the CDM's straight
-    path) to −depth now, so they met depth/(g₀ + depth) of a step ago. The tangential spring
-    starts from that instant: counting the whole step's slip would offset its anchor by up to
-    Δt·v_T, an error that does not shrink with Δt on nested grids (the last grid point before
-    the touch is shared by every finer grid) and that made friction runs converge erratically."""
+def gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b):
+    """The signed gaps of bodies a and b now and a step ago along the CDM's straight path
+    (u − Δt·v_{n−½}), m (_signed_gap: minus the depth where they overlap)."""
     now = _outline_gap(a, b, u, v_half, 0.0, geometry, poly_a, poly_b)
     before = _outline_gap(a, b, u, v_half, dt, geometry, poly_a, poly_b)
-    if not before > now or before <= 0.0:
-        return 1.0  # (overlapping a step ago too, as when a run starts in contact)
-    return min(1.0, -now / (before - now))
+    return now, before
+
+
+@kernel(inline="always")
+def share_since_crossing(now, before):
+    """Share of the last step (0–1) since the signed gap changed sign, from `before` a step
+    ago to `now` (gaps_along_step): at a touch, from g₀ ≥ 0 to −depth, the bodies met
+    depth/(g₀ + depth) of a step ago; at a break-away, from −depth to g ≥ 0, they parted
+    g/(g + depth) of a step ago; 1 without a crossing (overlapping a step ago too, as when a
+    run starts in contact). The tangential spring starts from the touch: counting the whole
+    step's slip would offset its anchor by up to Δt·v_T, an error that does not shrink with Δt
+    on nested grids (the last grid point before the touch is shared by every finer grid) and
+    that made friction runs converge erratically."""
+    if not (before > 0.0) == (now <= 0.0) or before == now:
+        return 1.0
+    return min(1.0, now / (now - before))
 
 
 CLOSING_SAFETY = 2.0

@@ -332,7 +332,7 @@ def simulate(
     params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
               c.pair_ct, c.pair_meff)  # fmt: skip
     n_pairs = c.pair_a.size
-    pair_state = np.zeros((n_pairs, 4))
+    pair_state = np.zeros((n_pairs, contact_kernel.N_STATE))
     pair_now = np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS)))
     out_contact = np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan)
     events = np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS))
