@@ -177,8 +177,9 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
 @kernel(inline="always")
 def kink_impulse(fall, share):
     """What the CDM's impulse misses, over Δt (N), of a normal force whose slope changes by
-    fall/Δt `share` of a step before the grid point t_n nearest to the kink: the midpoint
-    rule integrates a kinked force with an error fall·Δt·(share − ½)²/2 (module docstring)."""
+    fall/Δt (N/s) at a kink `share` of a step from the grid point on the force's side of it
+    (the first step in contact at a touch, the last at an end): the midpoint rule integrates
+    a kinked force with an error fall·Δt·(share − ½)²/2 (module docstring)."""
     return 0.5 * fall * (share - 0.5) ** 2
 
 
