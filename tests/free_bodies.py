@@ -96,7 +96,8 @@ def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.nda
     (generalized forces on the slabs (n_dof,): F_x, F_y and the moment about each displaced
     mass centre, N and N·m; per-pair values (n_pairs, 6) as contact.NOW_COLUMNS). A fresh
     contact state each call, velocities zero: no dashpot force and no friction increment,
-    only the normal law F_N = k_N·A_c at the overlap's centroid."""
+    only the normal law F_N = k_N·A_c at the overlap's centroid (a vanishing step, 1e-12 s:
+    the midpoint rule's corrections where points touch or part scale with the step)."""
     from pounding_cli.solver import contact as kernel
     from pounding_cli.solver.broad_phase import sweep_arrays
     from pounding_cli.solver.integrate import bounding_boxes
@@ -113,7 +114,7 @@ def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.nda
     still = np.zeros(n_dof + 3)
     now = np.zeros((n_pairs, len(kernel.NOW_COLUMNS)))
     forces = np.zeros(n_dof + 3)
-    kernel.contact_forces(0, 1.0, u, still, still, geometry, params, np.zeros((n_pairs, kernel.N_STATE)), now,
+    kernel.contact_forces(0, 1e-12, u, still, still, geometry, params, np.zeros((n_pairs, kernel.N_STATE)), now,
                           np.zeros((4, kernel.EV_COLUMNS)), np.zeros(1, dtype=np.int64), forces,
                           sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, False),
                           *kernel.buffers(int(c.body_poly.shape[1])))  # fmt: skip

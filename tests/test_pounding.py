@@ -12,7 +12,7 @@ from numpy.testing import assert_allclose
 import pounding_cli as pound
 from pounding_cli.assembly import assemble, ground_motion
 
-from conftest import load_doc, model_doc, square_building
+from conftest import INPUTS, load_doc, model_doc, square_building
 
 GAP = 0.004  # m
 
@@ -225,3 +225,27 @@ def test_a_row_of_buildings_and_a_wall():
     assert (wall["floor_b"] == 0).all() and (wall["level"] == 1).all()
     assert (wall["x"] > 24.0).all(), "the action point is at the wall's face"
     assert result.balance_error_ratio < 1e-3
+
+
+@pytest.mark.slow
+def test_the_papers_kobe_example_converges_smoothly():
+    """The paper's example under Kobe (both components, 150 s, friction, 21 impacts of slabs
+    within a few µrad of parallel), the hybrid at its automatic step scaled by 1.2 … 0.8,
+    against the same at 1/8 of it: the peak deflections' error is second order and smooth in
+    the step, error/scale² within a factor 2.5 across the five (measured 1.7), and within the
+    0.5 % the issue asks at the default (measured 0.080 %). Before the kinks were integrated
+    point by point and friction's transitions placed within the step, each impact's result
+    jumped about with where it fell on the grid, and the example amplifies that (a 1e-4 change
+    of the record changes its peaks by 2 %): 0.20 % at the default, 1.34 % at 0.8 and 1.24 %
+    at 0.95."""
+    from pounding_cli.api import execute, prepare
+    from pounding_cli.bench.metrics import compare
+    from pounding_cli.bench.run import Setting, with_setting
+
+    base = prepare(INPUTS / "paper_kobe.toml")
+    reference = execute(with_setting(base, Setting("reference", "hybrid", dt_scale=0.125)))
+    error = {s: compare(execute(with_setting(base, Setting("x", "hybrid", dt_scale=s))), reference).peak_deflection
+             for s in (1.2, 1.1, 1.0, 0.9, 0.8)}  # fmt: skip
+    per_step2 = [e / s**2 for s, e in error.items()]
+    assert max(per_step2) < 2.5 * min(per_step2), error
+    assert error[1.0] < 5e-3

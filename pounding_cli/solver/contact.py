@@ -20,13 +20,17 @@ its impulse from the touch to the cell's end (including the part in the cell bef
 had no force). Unweighted, the impulse was off by up to c_N·s·Δt/2 at every touch, and the
 rebound converged to its restitution at first order in Δt; weighted, at second.
 
-The spring's slope jumps at a face-to-face touch (by k_N·L₀ times the closing speed, L₀ the
-contact line's length at zero depth) and where the force ends (the break-away, or the
-dashpot's pull cancelling the spring). The midpoint rule of the cells misses J·Δt²·(σ − ½)²/2
-of the impulse of a force whose slope changes by J a share σ of a step before the nearest
-grid point (kink_impulse): second order, but with a size set by where the kink falls in its
-step, which made impacts' results jump about as the grid moved. The first step of an episode
-and the first step after its force ended add it (docs/theory.md §10, "The kinks").
+Each point of the contact line presses with k_N·depth, and its force has a kink where it
+touches and where it parts. The midpoint rule of the cells misses J·Δt²·(σ − ½)²/2 of the
+impulse of a force whose slope changes by J a share σ of a step before the nearest grid point
+(kink_impulse): second order, but with a size set by where the kink falls in its step, which
+made impacts' results jump about as the grid moved. Every step adds it for the points that
+touched within the last step or part within the next (_shallow_impulse, over the overlap's
+depth profile), and the first step after an episode for what parted after all (_add_parting);
+where the dashpot's pull ends the force first, _add_end_impulse. Friction's events inside a
+step are placed there too: stick's give (_kinetic_shortfall), sticking again
+(_stick_shortfall), the first step's slip then stick (_stick_since_touch), and a stuck
+contact's end (_fading_friction) (docs/theory.md §10, "The kinks").
 
 The force on B is F_N·n + F_T·t, on A its opposite; on a floor it becomes (F_x, F_y, r × F)
 with r = c − G (G the floor's displaced mass centre). The tangential state resets when the
@@ -67,16 +71,21 @@ from .contact_geometry import (
     LENGTH,
     NX,
     NY,
+    RESULT_SIZE,
     TX,
     TY,
     clip_overlap,
     contact_frame_xy,
+    shallow_moments,
 )
 
-# pair state columns; ST_FX, ST_FY: the force on B at the episode's last step, N; ST_SLOPE: there
-# k_N·L₀, N/m, the normal force's rate per unit of depth where the overlap is about to vanish
-ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT, ST_FX, ST_FY, ST_SLOPE = range(7)
-N_STATE = 7
+# pair state columns, of the episode's last step: ST_FX, ST_FY, the force on B, N; ST_NX, ST_NY, the
+# normal; ST_DEEPEST, the overlap's largest depth, m; ST_REST…+6, moments of the part of the
+# overlap not expected to part within the next step (contact_geometry.shallow_moments: rest)
+ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT, ST_FX, ST_FY, ST_NX, ST_NY, ST_DEEPEST, ST_REST = range(10)
+N_STATE = ST_REST + 6
+FRAME_VERTICES = RESULT_SIZE
+"""Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
 # per-pair current values (also what is stored at the output interval)
 NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
 NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
@@ -171,6 +180,7 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
     m = clip_overlap(poly_a, body_nv[a], poly_b, body_nv[b], clip, clip_label, tmp, tmp_label)
     if m == 0:
         return False
+    frame[FRAME_VERTICES] = m
     return contact_frame_xy(clip, clip_label, m, poly_a, body_nv[a], poly_b, body_nv[b], gax, gay, gbx, gby, frame)
 
 
@@ -198,6 +208,121 @@ def _add_end_impulse(fall, held, p, fa, fb, gax, gay, gbx, gby, dt, state, now, 
     e = int(state[p, ST_EVENT])
     if e < events.shape[0]:
         events[e, EV_IMPULSE] += missed * dt
+
+
+@kernel(inline="always")
+def _shallow_impulse(clip, m, frame, k_n, closing, turning, whole, work, rest):
+    """What the midpoint rule misses (N, over Δt) of the spring force k_N·depth of the points
+    of the overlap clip[:m] no deeper than the depth they gained over the last step (so they
+    touched within it), or lose over the next (so they part within it): `closing` at the
+    action point, m, changing by `turning` per metre along t (the bodies' relative turning).
+    Each such point's force has a kink a share σ = depth/closing of a step from this grid
+    point, where the midpoint rule misses k_N·closing/2·(σ − ½)² per unit length (kink_impulse);
+    summed over the overlap's depth profile (contact_geometry.shallow_moments; whole: at an
+    episode's first step, every point is new). For faces meeting parallel this is the whole
+    line at once; for a corner, the sliver at each tip, which makes the step's impulse that of
+    the quadratically growing area; for faces turned by a small angle, the taper, whose couple
+    k_N·L³·θ/12 would otherwise switch on and off a whole cell at a time (docs/theory.md §10,
+    "The kinks"). Returns the impulse, its offset from the action point along t (m), and the
+    overlap's largest depth (m); leaves in rest the moments of the deeper part (_add_parting)."""
+    i0, i1, deepest = shallow_moments(clip, m, frame[NX], frame[NY], frame[TX], frame[TY], frame[CX], frame[CY],
+                                      closing, turning, whole, work, rest)  # fmt: skip
+    if not i0 > 0.0:
+        return 0.0, 0.0, deepest
+    return k_n * i0, i1 / i0, deepest
+
+
+@kernel(inline="always")
+def _add_parting(p, opened, k_n, mu_s, mu_k, fa, fb, gax, gay, gbx, gby, dt, state, now, events, forces):
+    """At the first step after an episode (without a dashpot), what the midpoint rule missed of
+    the part of its last overlap that was expected to stay but parted, having opened by
+    `opened` (m) over the step: Σ k_N·r/2·(σ − ½)², σ = depth/r, from the moments ∫1, ∫e, ∫e²
+    (and with y) kept of that part, since r/2·(σ − ½)² = e²/(2r) − e/2 + r/8; along the last
+    normal, at the offset along t they give, with a slipping contact's friction. Where the
+    contact was still stuck, the friction's end too (_fading_friction)."""
+    if not (opened > 0.0 and now[p, NOW_FN] > 0.0):
+        return
+    r = opened
+    i0 = state[p, ST_REST + 2] / (2.0 * r) - 0.5 * state[p, ST_REST + 1] + 0.125 * r * state[p, ST_REST]
+    i1 = state[p, ST_REST + 5] / (2.0 * r) - 0.5 * state[p, ST_REST + 4] + 0.125 * r * state[p, ST_REST + 3]
+    nx = state[p, ST_NX]
+    ny = state[p, ST_NY]
+    tx = -ny
+    ty = nx
+    cx = now[p, NOW_X]
+    cy = now[p, NOW_Y]
+    missed = k_n * i0
+    if missed > 0.0:
+        along = state[p, ST_FT] / now[p, NOW_FN] if state[p, ST_SLIP] > 0 else 0.0
+        px = cx + i1 / i0 * tx
+        py = cy + i1 / i0 * ty
+        _apply(fb, missed * (nx + along * tx), missed * (ny + along * ty), px, py, gbx, gby, forces)
+        _apply(fa, -missed * (nx + along * tx), -missed * (ny + along * ty), px, py, gax, gay, forces)
+        e = int(state[p, ST_EVENT])
+        if e < events.shape[0]:
+            events[e, EV_IMPULSE] += missed * dt
+    f_t = now[p, NOW_FT]
+    if state[p, ST_SLIP] == 0 and f_t != 0.0 and state[p, ST_DEEPEST] > 0.0:
+        fade = _fading_friction(f_t, now[p, NOW_FN], mu_s, mu_k, min(1.0, state[p, ST_DEEPEST] / r))
+        _apply(fb, fade * tx, fade * ty, cx, cy, gbx, gby, forces)
+        _apply(fa, -fade * tx, -fade * ty, cx, cy, gax, gay, forces)
+
+
+@kernel(inline="always")
+def _stick_since_touch(spring, f_n, mu_k, growth):
+    """The tangential spring at an episode's first step, given `spring`, the stick force of the
+    slip since the touch (−k_T·slip). The normal force grows from the touch as the power
+    `growth` of time (the overlap's depth·length/area: 1 for a face, whose force grows
+    linearly; 2 for a corner, whose area grows as depth²): faster than linearly, μ_s·F_N starts
+    below any stick force, so the contact slips from the touch, and sticks again once μ_k·Ḟ_N
+    has caught up with the spring's rate k_T·v_T, a share s of the time since the touch:
+    μ_k·F_N·s^growth + |spring|·(1 − s) by now, stuck. Taking the spring from the step's end
+    instead (stuck throughout, or slipping at μ_k·F_N) offsets it by up to k_T·v_T·Δt for the
+    whole stick that follows: an error of first order in Δt, its size set by where the touch
+    fell in its step."""
+    if not growth > 1.0 + 1e-6 or spring == 0.0:
+        return spring
+    ratio = abs(spring) / (mu_k * f_n * growth) if mu_k > 0.0 else np.inf
+    if ratio >= 1.0:  # still slipping (the slip law takes it from here)
+        return spring
+    share = ratio ** (1.0 / (growth - 1.0))
+    held = mu_k * f_n * share**growth + abs(spring) * (1.0 - share)
+    return held if spring > 0.0 else -held
+
+
+@kernel(inline="always")
+def _stick_shortfall(increment, mu_k, f_before, f_n, rise):
+    """Where a slipping contact sticks again within the last step, the tangential spring, held
+    at μ_k·F_N while slipping, grows by k_T·v_T from the instant t_s at which μ_k·Ḟ_N fell to
+    k_T·v_T; counting the whole step's increment (k_T·v_T·Δt, N) from the last step's μ_k·F_N
+    overstates it by −g(t_s) = min over the step of k_T·v_T·(t − t_{n−1}) − μ_k·(F_N(t) − F_N,n−1).
+    F_N is taken quadratic over the step through the last step's and this step's values and
+    this step's rise per step, k_N·length·(closing speed)·Δt (N). Returns g(t_s) ≤ 0, N: second
+    order in Δt, but with F_N's curvature, which at a corner's touch is F_N/τ², the error was
+    as large as first order's, its size set by where the touch fell."""
+    curvature = 2.0 * (f_before - f_n + rise)  # F̈_N·Δt²
+    if not (curvature > 0.0 and mu_k > 0.0):
+        return 0.0
+    back = (rise - increment / mu_k) / curvature  # (t_n − t_s)/Δt, where μ_k·Ḟ_N = k_T·v_T
+    if not 0.0 < back < 1.0:
+        return 0.0
+    s = 1.0 - back  # (t_s − t_{n−1})/Δt
+    f_s = f_n - rise * back + 0.5 * curvature * back * back
+    return min(0.0, mu_k * (f_s - f_before) - increment * s)
+
+
+@kernel(inline="always")
+def _fading_friction(f_t, f_n, mu_s, mu_k, end):
+    """What the CDM's tangential impulse misses, over Δt (N, along t), where a contact still
+    stuck at a step parts `end` (0–1) of a step later: the normal force falls from f_n to zero
+    (linearly), the stick gives way where μ_s·F_N falls to |f_t|, a share end·(1 − |f_t|/(μ_s·f_n))
+    of the step on, and the friction μ_k·F_N then fades with it. The cell applies f_t over the
+    whole step. Left alone, the friction's end, a jump to zero in the limit, falls up to half a
+    step off: an error of first order in Δt whose sign follows where the break-away falls."""
+    ratio = min(1.0, abs(f_t) / (mu_s * f_n)) if mu_s > 0.0 else 1.0
+    give = end * (1.0 - ratio)
+    sign = 1.0 if f_t > 0.0 else -1.0
+    return f_t * (give - 0.5) + sign * mu_k * f_n * end * ratio * ratio / 2.0
 
 
 @kernel(inline="always")
@@ -263,10 +388,9 @@ def contact_forces(
                                     poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
         if not touching:
             if state[p, ST_ACTIVE] > 0:  # the episode ends (now holds values only during one)
-                # the impulse its last step's force missed until the break-away (module docstring)
-                g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
-                held = 1.0 - share_since_crossing(g_now, g_before)
-                _add_end_impulse(state[p, ST_SLOPE] * (g_now - g_before), held, p, fa, fb, gax, gay, gbx, gby, dt,
+                if c_n[p] == 0.0 and zeta[p] == 0.0:  # (with a dashpot the force ends where its pull cancels)
+                    g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+                    _add_parting(p, g_now - g_before, k_n[p], mu_s[p], mu_k[p], fa, fb, gax, gay, gbx, gby, dt,
                                  state, now, events, forces)  # fmt: skip
                 e = int(state[p, ST_EVENT])
                 if e < events.shape[0]:
@@ -276,7 +400,6 @@ def contact_forces(
                 state[p, ST_SLIP] = 0.0
                 state[p, ST_FX] = 0.0
                 state[p, ST_FY] = 0.0
-                state[p, ST_SLOPE] = 0.0
                 for k in range(now.shape[1]):
                     now[p, k] = 0.0
             continue
@@ -295,47 +418,69 @@ def contact_forces(
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
         slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
+        closed = -dt * ((vbx - vax) * nx + (vby - vay) * ny)  # over the last step at c, m
+        # and its change along t, per metre: B's turning relative to A's
+        closed_turn = dt * ((v_half[3 * fb + 2] if fb >= 0 else 0.0) - (v_half[3 * fa + 2] if fa >= 0 else 0.0))
         share = 1.0  # of the last step spent in contact; below 1 only at an episode's first step
-        deepening = 0.0  # over the last step, m
         if state[p, ST_ACTIVE] == 0:
             g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
             share = share_since_crossing(g_now, g_before)
-            deepening = g_before - g_now
             slip_t *= share
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_est)
         v_n = (vbx - vax) * nx + (vby - vay) * ny
         v_t = (vbx - vax) * tx + (vby - vay) * ty
+        turn = (v_est[3 * fb + 2] if fb >= 0 else 0.0) - (v_est[3 * fa + 2] if fa >= 0 else 0.0)
         # normal force: overlap-area spring and dashpot, never pulling
         damping = c_n[p]
         if zeta[p] > 0.0:
             damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
+        undamped = damping == 0.0
         if share < 1.0:
             damping *= share + 0.5  # its impulse since the touch (module docstring)
-        # k_N·L₀: L₀ = 2A/depth − length, the contact line's length extrapolated to zero depth
-        # (a face: its length; a corner: 0), from A = ∫ length d(depth) with the length linear
-        slope = 0.0
-        if frame[DEPTH] > 0.0:
-            slope = k_n[p] * min(frame[LENGTH], max(0.0, 2.0 * area / frame[DEPTH] - frame[LENGTH]))
         f_n = k_n[p] * area - damping * v_n
-        if share < 1.0:  # the spring's kink at the touch (module docstring)
-            f_n += kink_impulse(slope * deepening, share)
         if f_n < 0.0:  # the dashpot's pull cancels the spring: the force fell to zero within the step
             if state[p, ST_ACTIVE] > 0:
                 _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
                                  gay, gbx, gby, dt, state, now, events, forces)  # fmt: skip
             f_n = 0.0
+        # the points that touched within the last step (their impulse is added below)
+        missed = 0.0
+        arm = 0.0
+        deepest = 0.0
+        rest = state[p, ST_REST:]
+        m = int(frame[FRAME_VERTICES])
+        if f_n > 0.0:
+            missed, arm, deepest = _shallow_impulse(clip, m, frame, k_n[p], closed, closed_turn,
+                                                    state[p, ST_ACTIVE] == 0, tmp, rest)  # fmt: skip
         # tangential force: incremental spring, dashpot, Coulomb stick/slip
         spring = state[p, ST_FT] - k_t[p] * slip_t
+        if state[p, ST_ACTIVE] == 0 and f_n > 0.0 and area > 0.0:  # where stick began (_stick_since_touch)
+            spring = _stick_since_touch(spring, f_n, mu_k[p], deepest * frame[LENGTH] / area)
         trial = spring - c_t[p] * v_t
         slipping = state[p, ST_SLIP] > 0
+        if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
+            held = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k[p], now[p, NOW_FN], f_n,
+                                    -k_n[p] * frame[LENGTH] * v_n * dt)  # fmt: skip
+            if held < 0.0 and abs(trial) + held <= mu_k[p] * f_n:
+                sign = 1.0 if trial > 0 else -1.0
+                spring += sign * held
+                trial += sign * held
+                slipping = False
         limit = mu_k[p] * f_n if slipping else mu_s[p] * f_n
         if abs(trial) > limit:
             sign = 1.0 if trial > 0 else -1.0
             spring = sign * mu_k[p] * f_n
             if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
-                trial = spring + sign * (mu_s[p] - mu_k[p]) * f_n * _kinetic_shortfall(
-                    abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN], abs(trial) - limit)
+                excess_before = abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN]
+                weight = _kinetic_shortfall(excess_before, abs(trial) - limit)
+                if excess_before < 0.0:  # the normal force linear between the last step's and now
+                    fall = now[p, NOW_FN] - f_n
+                    give = 0.5 - weight  # φ
+                    trial = spring + sign * weight * (mu_s[p] * (f_n + give * fall)
+                                                      - mu_k[p] * (f_n + fall * (0.5 + give) / 2.0))  # fmt: skip
+                else:
+                    trial = spring + sign * (mu_s[p] - mu_k[p]) * f_n * weight
             else:
                 trial = spring
             slipping = True
@@ -351,7 +496,27 @@ def contact_forces(
         _apply(fa, -fx, -fy, cx, cy, gax, gay, forces)
         state[p, ST_FX] = fx
         state[p, ST_FY] = fy
-        state[p, ST_SLOPE] = slope
+        # the spring's kinks where points of the overlap touched within the last step or part
+        # within the next (without a dashpot: with one, the force ends where its pull cancels)
+        if f_n > 0.0:
+            if undamped:  # parting within the next step, its closing speed grown by this force's push
+                opening = dt * (v_n + 0.5 * dt * f_n / m_eff[p])
+                out, arm_out, deepest = _shallow_impulse(clip, m, frame, k_n[p], opening, -dt * turn, False, tmp,
+                                                         rest)  # fmt: skip
+                if out > 0.0:
+                    arm = (missed * arm + out * arm_out) / (missed + out)
+                    missed += out
+            if missed > 0.0:
+                along = spring / f_n if slipping else 0.0  # a slipping contact's friction follows
+                px = cx + arm * tx
+                py = cy + arm * ty
+                mx = missed * (nx + along * tx)
+                my = missed * (ny + along * ty)
+                _apply(fb, mx, my, px, py, gbx, gby, forces)
+                _apply(fa, -mx, -my, px, py, gax, gay, forces)
+            state[p, ST_DEEPEST] = deepest
+        state[p, ST_NX] = nx
+        state[p, ST_NY] = ny
         now[p, NOW_FN] = f_n
         now[p, NOW_FT] = f_t
         now[p, NOW_AREA] = area
@@ -373,7 +538,7 @@ def contact_forces(
             n_events[0] += 1
         e = int(state[p, ST_EVENT])
         if e < events.shape[0]:
-            events[e, EV_IMPULSE] += f_n * dt
+            events[e, EV_IMPULSE] += (f_n + missed) * dt
             if f_n > events[e, EV_PEAK_FN]:
                 events[e, EV_PEAK_FN] = f_n
                 events[e, EV_X] = cx

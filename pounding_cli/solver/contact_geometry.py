@@ -680,6 +680,148 @@ def _extent_along(poly, m, nx, ny):
 
 
 @kernel
+def _chord(poly, m, y, nx, ny, tx, ty, ox, oy):
+    """Length along n (m) of the convex polygon poly[:m]'s section at abscissa y along t
+    (measured from (ox, oy)): the overlap's depth there."""
+    lo = np.inf
+    hi = -np.inf
+    for i in range(m):
+        j = i + 1 if i + 1 < m else 0
+        yi = (poly[i, 0] - ox) * tx + (poly[i, 1] - oy) * ty
+        yj = (poly[j, 0] - ox) * tx + (poly[j, 1] - oy) * ty
+        if (yi - y) * (yj - y) > 0.0:
+            continue
+        zi = (poly[i, 0] - ox) * nx + (poly[i, 1] - oy) * ny
+        zj = (poly[j, 0] - ox) * nx + (poly[j, 1] - oy) * ny
+        if yi == yj:
+            lo = min(lo, zi, zj)
+            hi = max(hi, zi, zj)
+        else:
+            z = zi + (zj - zi) * (y - yi) / (yj - yi)
+            lo = min(lo, z)
+            hi = max(hi, z)
+    return hi - lo if hi >= lo else 0.0
+
+
+@kernel(inline="always")
+def _cut_piece(y0, e0, r0, y1, e1, r1, g0, g1):
+    """The part of the piece [y0, y1] (depth e and rate r linear along it) where the linear g,
+    g0 at y0 and g1 at y1, is ≤ 0: (y0, e0, r0, y1, e1, r1), empty when y1 ≤ y0."""
+    if g0 > 0.0 and g1 > 0.0:
+        return y0, e0, r0, y0, e0, r0
+    if g0 > 0.0 or g1 > 0.0:
+        s = g0 / (g0 - g1)
+        y = y0 + s * (y1 - y0)
+        e = e0 + s * (e1 - e0)
+        r = r0 + s * (r1 - r0)
+        if g0 > 0.0:
+            return y, e, r, y1, e1, r1
+        return y0, e0, r0, y, e, r
+    return y0, e0, r0, y1, e1, r1
+
+
+@kernel(inline="always")
+def _kinked(e, r):
+    """r/2·(σ − ½)², σ = e/r: the midpoint rule's shortfall of a point's impulse, per k·Δt."""
+    return (e - 0.5 * r) ** 2 / (2.0 * r) if r > 0.0 else 0.0
+
+
+SHALLOW_MARGIN = 1.25
+"""shallow_moments skips an overlap whose ends are deeper than this many times the step's
+rate: none of it touched within the last step or can part within the next (the rate of the
+next is a prediction; an overlap that parts after all though deeper than this is counted
+nowhere)."""
+
+
+@kernel
+def shallow_moments(poly, m, nx, ny, tx, ty, ox, oy, r0, dr, whole, work, rest):
+    """Moments over the overlap poly[:m] (convex) of its part no deeper than the rate r: I0 =
+    ∫h dy and I1 = ∫h·y dy with h = r/2·(σ − ½)², σ = depth/r, y the abscissa along t from
+    (ox, oy), r = r0 + dr·y the depth the bodies gain (or lose) along n over a step there, m
+    (the bodies' relative turning makes it vary along the line); and the largest depth, m.
+
+    These are the points that touched within the last step (or part within the next): the
+    CDM's midpoint rule misses k·r/2·(σ − ½)² of each one's impulse per unit length, over Δt
+    (solver/contact.py, kink_impulse). The depth is piecewise linear in y between the
+    vertices' abscissae, and concave; Simpson's rule (over four panels on the shallow part,
+    where a rate varying along the line makes the integrand rational) is exact where r is
+    uniform. whole: the overlap is new (an episode's first step), so every point counts, the
+    deeper than r as σ = 1 (they came closer than the tolerance a step ago). rest (6,): ∫1,
+    ∫e, ∫e², ∫y, ∫e·y, ∫e²·y dy over the deeper part, for when it parts after all; zero when
+    both ends are deeper than SHALLOW_MARGIN·r. work: (≥ m, 2)."""
+    for k in range(6):
+        rest[k] = 0.0
+    if m < 3:
+        return 0.0, 0.0, 0.0
+    if not whole:  # the depth is concave along the line: nothing is shallow if both ends are deep
+        lo = np.inf
+        hi = -np.inf
+        for k in range(m):
+            y = (poly[k, 0] - ox) * tx + (poly[k, 1] - oy) * ty
+            lo = min(lo, y)
+            hi = max(hi, y)
+        if (_chord(poly, m, lo, nx, ny, tx, ty, ox, oy) > SHALLOW_MARGIN * (r0 + dr * lo)
+                and _chord(poly, m, hi, nx, ny, tx, ty, ox, oy) > SHALLOW_MARGIN * (r0 + dr * hi)):  # fmt: skip
+            return 0.0, 0.0, 0.0
+    n = 0
+    for k in range(m):  # the vertices' abscissae, sorted (insertion)
+        y = (poly[k, 0] - ox) * tx + (poly[k, 1] - oy) * ty
+        i = n
+        while i > 0 and work[i - 1, 0] > y:
+            work[i, 0] = work[i - 1, 0]
+            i -= 1
+        work[i, 0] = y
+        n += 1
+    deepest = 0.0
+    for k in range(n):
+        e = _chord(poly, m, work[k, 0], nx, ny, tx, ty, ox, oy)
+        deepest = max(deepest, e)
+        work[k, 1] = e
+    i0 = 0.0
+    i1 = 0.0
+    for k in range(n - 1):
+        ya = work[k, 0]
+        yb = work[k + 1, 0]
+        if not yb > ya:
+            continue
+        ea = work[k, 1]
+        eb = work[k + 1, 1]
+        ra = r0 + dr * ya
+        rb = r0 + dr * yb
+        # the shallow part: e ≤ r and r > 0
+        y0, e0, q0, y1, e1, q1 = _cut_piece(ya, ea, ra, yb, eb, rb, ea - ra, eb - rb)
+        y0, e0, q0, y1, e1, q1 = _cut_piece(y0, e0, q0, y1, e1, q1, -q0, -q1)
+        if y1 > y0:  # composite Simpson over four panels (exact for a uniform rate)
+            w = (y1 - y0) / 12.0
+            for j in range(5):
+                f = j / 4.0
+                c = 1.0 if j == 0 or j == 4 else (4.0 if j % 2 else 2.0)
+                y = y0 + f * (y1 - y0)
+                h = _kinked(e0 + f * (e1 - e0), q0 + f * (q1 - q0))
+                i0 += w * c * h
+                i1 += w * c * h * y
+        # the deeper part: e > r
+        y0, e0, q0, y1, e1, q1 = _cut_piece(ya, ea, ra, yb, eb, rb, ra - ea, rb - eb)
+        if y1 > y0 and whole:  # σ = 1: h = r/8
+            w = (y1 - y0) / 6.0
+            ym = 0.5 * (y0 + y1)
+            qm = 0.5 * (q0 + q1)
+            i0 += w * (q0 + 4.0 * qm + q1) / 8.0
+            i1 += w * (q0 * y0 + 4.0 * qm * ym + q1 * y1) / 8.0
+        elif y1 > y0:
+            w = (y1 - y0) / 6.0
+            ym = 0.5 * (y0 + y1)
+            em = 0.5 * (e0 + e1)
+            rest[0] += y1 - y0
+            rest[1] += w * (e0 + 4.0 * em + e1)
+            rest[2] += w * (e0 * e0 + 4.0 * em * em + e1 * e1)
+            rest[3] += w * (y0 + 4.0 * ym + y1)
+            rest[4] += w * (e0 * y0 + 4.0 * em * ym + e1 * y1)
+            rest[5] += w * (e0 * e0 * y0 + 4.0 * em * em * ym + e1 * e1 * y1)
+    return i0, i1, deepest
+
+
+@kernel
 def contact_frame_xy(poly, label, m, a, na, b, nb, rax, ray, rbx, rby, result):
     """contact_frame with the reference points as scalars (rax, ray), (rbx, rby), m: for callers
     that hold them in locals (the time loop), so no (2,) array need exist."""
