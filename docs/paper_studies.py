@@ -238,7 +238,7 @@ def convergence_text(results: dict[str, dict], finer: dict[str, dict[float, dict
         f"{100 * both[2]:.2g} %: read the twist peaks of those tables as uncertain by that much, and do not compare "
         f"two angles' twists that differ by less. Runs of two components with many oblique impacts are "
         f"ill-conditioned (docs/bench.md, \"The Kobe example\": at the default step the peaks of the whole "
-        f"Kobe record are within 0.23 % of a converged run, but scaling the record by 1 + 10⁻⁴ moves them by 1.9 %): "
+        f"Kobe record are within 0.081 % of a converged run, but scaling the record by 1 + 10⁻⁴ moves them by 2.0 %): "
         f"a grazing contact more or less, or a contact that starts to slide a little earlier, changes the motion "
         f"that follows. The storey twists, excited only by eccentric and oblique impacts and by friction, are the "
         f"most sensitive peaks.",

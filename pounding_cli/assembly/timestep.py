@@ -40,11 +40,11 @@ error is second order, 1e-4 on peaks at this fraction (docs/validation.md)."""
 
 CONTACT_DT_FRACTION = 0.00625
 """Δt_auto ≤ CONTACT_DT_FRACTION · 2/ω_contact where contact is possible. The contact phase
-is second order in Δt (the contact start and the break-away from stick placed inside the
-step, docs/theory.md §10), but impacts amplify small differences, so the peaks of the
-paper's Kobe example (21–25 impacts) converge only from about this step: against a converged
-run they were 1.8 % off at 0.0125, 0.23 % at 0.00625, 0.20 % at 0.003125 (docs/bench.md,
-"The Kobe example")."""
+is second order in Δt (every event inside a step placed where it happens, docs/theory.md
+§10), but impacts amplify small differences: against a converged run the paper's Kobe
+example (25 impacts) is 0.39 % off at 0.0125, 0.081 % at 0.00625, 0.022 % at 0.003125
+(docs/bench.md, "The Kobe example"); this step keeps a margin of 6 under the 0.5 % of
+issue 5."""
 
 YIELD_DT_FRACTION = 0.0125
 """The hybrid's CDM step while only yielding members need it: YIELD_DT_FRACTION · 2/ω_max of
@@ -59,9 +59,10 @@ HYBRID_SAMPLING = 0.2
 it can, solver/hybrid.py). The peaks between substeps come from the cubic through their
 exact states (solver/peaks.py: error ≤ (ω·h)⁴/384 of a mode's amplitude), so h no longer
 bounds their accuracy; it sets the horizon of the contact and yielding checks and where the
-CDM starts and stops. The bench (docs/bench.md) found 0.3–0.6 up to 10 % faster
-in most scenes but 1.15 % off in the Kobe example (0.21 % at 0.2), whose peaks answer to
-where the impacts begin and end."""
+CDM starts and stops. The bench (docs/bench.md, "What would put it on the front
+everywhere") finds 0.4 8–18 % faster at equal accuracy in most scenes without yielding
+members (the Kobe example: 0.078 % against 0.076 %), but slower and less accurate with them,
+whose longer horizon sends more steps to the CDM."""
 
 
 @dataclass(frozen=True)
