@@ -43,12 +43,14 @@ def test_restitution_damping_ratio_inverts_the_closed_form():
     assert_allclose(restitution_damping_ratio(e), -np.log(e) / np.sqrt(np.pi**2 + np.log(e) ** 2), rtol=2e-2)
 
 
-def _face_to_face(e=None, gap=1e-3, v=0.5):
+def _face_to_face(e=None, gap=1e-3, v=0.5, angle_deg=0.0, mu=(0.0, 0.0), v_slide=0.0):
+    """Two 4 m slabs a gap apart face to face, B turned by angle_deg, closing at 2v (and sliding
+    past each other at 2·v_slide), with the dashpot of restitution e (none if None)."""
     a = square(4.0, (0.0, 0.0))
-    b = square(4.0, (4.0 + gap, 0.0))
+    b = square(4.0, (4.0 + gap, 0.0), angle_deg=angle_deg)
     zeta = restitution_damping_ratio(e) if e is not None else 0.0
-    structure, contact = free_slabs([a, b], k_n=1e9, zeta=zeta)
-    velocity = np.array([v, 0, 0, -v, 0, 0])
+    structure, contact = free_slabs([a, b], k_n=1e9, mu_s=mu[0], mu_k=mu[1], zeta=zeta)
+    velocity = np.array([v, v_slide, 0, -v, -v_slide, 0])
     return structure, contact, velocity
 
 
@@ -325,13 +327,9 @@ def _bouncing_along_a_wall(k_t=1e8):
     return r, rows
 
 
-def _turned_rebound(angle_deg, dt, gap=1e-3, v=0.5, mu=(0.0, 0.0), v_slide=0.0):
-    """Velocities after two 4 m slabs meet face to face, B turned by angle_deg, closing at 2v
-    (and sliding past each other at 2·v_slide)."""
-    a = square(4.0, (0.0, 0.0))
-    b = square(4.0, (4.0 + gap, 0.0), angle_deg=angle_deg)
-    structure, contact = free_slabs([a, b], k_n=1e9, k_t=1e8, mu_s=mu[0], mu_k=mu[1])
-    velocity = np.array([v, v_slide, 0, -v, -v_slide, 0])
+def _turned_rebound(angle_deg, dt, gap=1e-3, mu=(0.0, 0.0), v_slide=0.0):
+    """Velocities (2, 3) after the slabs of _face_to_face meet, without a dashpot."""
+    structure, contact, velocity = _face_to_face(None, gap, angle_deg=angle_deg, mu=mu, v_slide=v_slide)
     r = run(structure, contact, velocity, duration=0.03, dt=dt, stride=max(1, int(round(1e-4 / dt))))
     assert r.events.shape[0] == 1, "one impact"
     return r.velocity[-1].reshape(2, 3)

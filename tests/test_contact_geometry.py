@@ -56,6 +56,7 @@ from pounding_cli.solver.contact_geometry import (
     clip_overlap,
     clip_rows,
     contact_frame,
+    depth_profile,
     overlap_frame,
     shallow_moments,
     tolerance,
@@ -755,8 +756,8 @@ PROFILES = {
 @pytest.mark.parametrize("r0, dr, whole", [(0.5, 0.0, False), (0.25, 0.0, False), (0.5, 0.0, True),
                                            (0.5, 0.02, False)])  # fmt: skip
 def test_shallow_moments_integrate_the_depth_profile(name, r0, dr, whole):
-    """shallow_moments against adaptive quadrature of the depth profile shapely cuts from the
-    overlap, with the frame turned and away from the origin: with a uniform rate r (no relative
+    """depth_profile and shallow_moments against adaptive quadrature of the depth profile
+    shapely cuts from the overlap, with the frame turned and away from the origin: with a uniform rate r (no relative
     turning) Simpson's rule is exact on every piece (quadratic and cubic integrands), so they
     agree to 1e-10 of the moments' size (rounding in the frame's projections); with r varying
     along the line (dr·L/r = 0.16, the Kobe example's turning at its slowest impacts) the
@@ -768,8 +769,8 @@ def test_shallow_moments_integrate_the_depth_profile(name, r0, dr, whole):
     # ox, oy: where y = 0; the moments are taken about it
     work = np.zeros((len(pts) + 2, 2))
     rest = np.zeros(6)
-    i0, i1, deepest = shallow_moments(pts, len(pts), n[0], n[1], t[0], t[1], origin[0], origin[1], r0, dr, whole,
-                                      work, rest)  # fmt: skip
+    count, deepest = depth_profile(pts, len(pts), n[0], n[1], t[0], t[1], origin[0], origin[1], work)
+    i0, i1 = shallow_moments(work, count, r0, dr, whole, rest)
     ref0, ref1, ref_deepest, ref_rest = _profile_reference(local, r0, dr, whole)
     tol = 1e-10 if dr == 0 else 1e-4
     scale = r0 * 4.0

@@ -76,6 +76,8 @@ from .contact_geometry import (
     TY,
     clip_overlap,
     contact_frame_xy,
+    depth_profile,
+    kink_impulse,
     shallow_moments,
 )
 
@@ -185,20 +187,11 @@ def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay,
 
 
 @kernel(inline="always")
-def kink_impulse(fall, share):
-    """What the CDM's impulse misses, over Δt (N), of a normal force whose slope changes by
-    fall/Δt (N/s) at a kink `share` of a step from the grid point on the force's side of it
-    (the first step in contact at a touch, the last at an end): the midpoint rule integrates
-    a kinked force with an error fall·Δt·(share − ½)²/2 (module docstring)."""
-    return 0.5 * fall * (share - 0.5) ** 2
-
-
-@kernel(inline="always")
 def _add_end_impulse(fall, held, p, fa, fb, gax, gay, gbx, gby, dt, state, now, events, forces):
-    """Where pair p's normal force fell to zero `held` of a step after its last step (the
-    break-away, or the dashpot's pull cancelling the spring), falling by `fall` N over a step,
-    add what its last step missed (kink_impulse), at its action point and in the direction of
-    its last force (friction fades with the normal force)."""
+    """Where the dashpot's pull cancelled pair p's spring `held` of a step after its last step,
+    the normal force falling by `fall` N over a step, add what its last step missed
+    (kink_impulse), at its action point and in the direction of its last force (friction fades
+    with the normal force)."""
     if not (held > 0.0 and now[p, NOW_FN] > 0.0):
         return
     missed = kink_impulse(fall, held)
@@ -211,25 +204,25 @@ def _add_end_impulse(fall, held, p, fa, fb, gax, gay, gbx, gby, dt, state, now, 
 
 
 @kernel(inline="always")
-def _shallow_impulse(clip, m, frame, k_n, closing, turning, whole, work, rest):
+def _shallow_impulse(profile, n, k_n, closing, turning, whole, rest):
     """What the midpoint rule misses (N, over Δt) of the spring force k_N·depth of the points
-    of the overlap clip[:m] no deeper than the depth they gained over the last step (so they
-    touched within it), or lose over the next (so they part within it): `closing` at the
-    action point, m, changing by `turning` per metre along t (the bodies' relative turning).
-    Each such point's force has a kink a share σ = depth/closing of a step from this grid
-    point, where the midpoint rule misses k_N·closing/2·(σ − ½)² per unit length (kink_impulse);
-    summed over the overlap's depth profile (contact_geometry.shallow_moments; whole: at an
-    episode's first step, every point is new). For faces meeting parallel this is the whole
-    line at once; for a corner, the sliver at each tip, which makes the step's impulse that of
-    the quadratically growing area; for faces turned by a small angle, the taper, whose couple
-    k_N·L³·θ/12 would otherwise switch on and off a whole cell at a time (docs/theory.md §10,
-    "The kinks"). Returns the impulse, its offset from the action point along t (m), and the
-    overlap's largest depth (m); leaves in rest the moments of the deeper part (_add_parting)."""
-    i0, i1, deepest = shallow_moments(clip, m, frame[NX], frame[NY], frame[TX], frame[TY], frame[CX], frame[CY],
-                                      closing, turning, whole, work, rest)  # fmt: skip
+    of the overlap's depth profile (contact_geometry.depth_profile: profile[:n]) no deeper than
+    the depth they gained over the last step (so they touched within it), or lose over the next
+    (so they part within it): `closing` at the action point, m, changing by `turning` per
+    metre along t (the bodies' relative turning). Each such point's force has a kink a share
+    σ = depth/closing of a step from this grid point, where the midpoint rule misses
+    k_N·closing/2·(σ − ½)² per unit length (kink_impulse); summed by
+    contact_geometry.shallow_moments (whole: at an episode's first step, every point is new).
+    For faces meeting parallel this is the whole line at once; for a corner, the sliver at each
+    tip, which makes the step's impulse that of the quadratically growing area; for faces
+    turned by a small angle, the taper, whose couple k_N·L³·θ/12 would otherwise switch on and
+    off a whole cell at a time (docs/theory.md §10, "The kinks"). Returns the impulse and its
+    offset from the action point along t (m); leaves in rest the moments of the deeper part
+    (_add_parting)."""
+    i0, i1 = shallow_moments(profile, n, closing, turning, whole, rest)
     if not i0 > 0.0:
-        return 0.0, 0.0, deepest
-    return k_n * i0, i1 / i0, deepest
+        return 0.0, 0.0
+    return k_n * i0, i1 / i0
 
 
 @kernel(inline="always")
@@ -312,6 +305,13 @@ def _stick_shortfall(increment, mu_k, f_before, f_n, rise):
 
 
 @kernel(inline="always")
+def _undamped(c_n, zeta):
+    """The pair has no normal dashpot: its force ends where the overlap does (with one, where
+    the dashpot's pull cancels the spring)."""
+    return c_n == 0.0 and zeta == 0.0
+
+
+@kernel(inline="always")
 def _fading_friction(f_t, f_n, mu_s, mu_k, end):
     """What the CDM's tangential impulse misses, over Δt (N, along t), where a contact still
     stuck at a step parts `end` (0–1) of a step later: the normal force falls from f_n to zero
@@ -326,19 +326,23 @@ def _fading_friction(f_t, f_n, mu_s, mu_k, end):
 
 
 @kernel(inline="always")
-def _kinetic_shortfall(excess_before, excess_now):
+def _kinetic_shortfall(excess_before, excess_now, f_before, f_n, mu_s, mu_k):
     """Where stick gives way, the force drops from μ_s·F_N to μ_k·F_N at an instant t* inside
     the last step, located by the excess |F_T| − μ_s·F_N going from excess_before < 0 at the
     last step to excess_now > 0 now: φ = (t_n − t*)/Δt of the step was spent slipping. The
-    CDM's force at t_n acts over [t_n − Δt/2, t_n + Δt/2]; taking it as μ_k·F_N + (μ_s − μ_k)·F_N
-    · (½ − φ) (this return value times (μ_s − μ_k)·F_N) gives that window, or the one before
-    it, the impulse of a jump at t*, whichever held it. Switching at t_n instead misplaces an
-    impulse (μ_s − μ_k)·F_N·Δt·(½ − φ), an error of first order in Δt, which dominated the
-    Kobe run's convergence with μ_s > μ_k."""
-    if not excess_before < 0.0:
-        return -0.5  # (the state came from a slip: no better estimate than the step's end)
-    share_slipping = excess_now / (excess_now - excess_before)
-    return 0.5 - share_slipping
+    CDM's force at t_n acts over [t_n − Δt/2, t_n + Δt/2]: for that window, or the one before
+    it, to carry the impulse of the drop at t*, the step's friction is μ_k·F_N plus (½ − φ)
+    times the stick force held before t* less μ_k·F_N over the same span, with F_N linear
+    between f_before (the last step's) and f_n: (½ − φ)·(μ_s·F_N(t*) − μ_k·F_N over it)
+    (this return value, N, along the slip). Switching at t_n instead misplaces the drop's
+    impulse by (μ_s − μ_k)·F_N·Δt·(½ − φ), an error of first order in Δt, which dominated the
+    Kobe run's convergence with μ_s > μ_k; sizing the drop with F_N at t_n was off by a quarter
+    of it where F_N falls fast, at an impact's end."""
+    if not excess_before < 0.0:  # (the state came from a slip: no better estimate than the step's end)
+        return -0.5 * (mu_s - mu_k) * f_n
+    give = excess_now / (excess_now - excess_before)  # φ
+    fall = f_before - f_n
+    return (0.5 - give) * (mu_s * (f_n + give * fall) - mu_k * (f_n + fall * (0.5 + give) / 2.0))
 
 
 @kernel
@@ -388,7 +392,7 @@ def contact_forces(
                                     poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
         if not touching:
             if state[p, ST_ACTIVE] > 0:  # the episode ends (now holds values only during one)
-                if c_n[p] == 0.0 and zeta[p] == 0.0:  # (with a dashpot the force ends where its pull cancels)
+                if _undamped(c_n[p], zeta[p]):  # (with a dashpot the force ends where its pull cancels)
                     g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
                     _add_parting(p, g_now - g_before, k_n[p], mu_s[p], mu_k[p], fa, fb, gax, gay, gbx, gby, dt,
                                  state, now, events, forces)  # fmt: skip
@@ -435,7 +439,7 @@ def contact_forces(
         damping = c_n[p]
         if zeta[p] > 0.0:
             damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
-        undamped = damping == 0.0
+        undamped = _undamped(c_n[p], zeta[p])
         if share < 1.0:
             damping *= share + 0.5  # its impulse since the touch (module docstring)
         f_n = k_n[p] * area - damping * v_n
@@ -444,19 +448,21 @@ def contact_forces(
                 _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
                                  gay, gbx, gby, dt, state, now, events, forces)  # fmt: skip
             f_n = 0.0
-        # the points that touched within the last step (their impulse is added below)
+        # the overlap's depth along the contact line, and the points that touched within the last
+        # step (their impulse is added below)
         missed = 0.0
         arm = 0.0
-        deepest = 0.0
         rest = state[p, ST_REST:]
-        m = int(frame[FRAME_VERTICES])
+        n_profile = 0
         if f_n > 0.0:
-            missed, arm, deepest = _shallow_impulse(clip, m, frame, k_n[p], closed, closed_turn,
-                                                    state[p, ST_ACTIVE] == 0, tmp, rest)  # fmt: skip
+            n_profile, state[p, ST_DEEPEST] = depth_profile(clip, int(frame[FRAME_VERTICES]), nx, ny, tx, ty, cx,
+                                                            cy, tmp)  # fmt: skip
+            missed, arm = _shallow_impulse(tmp, n_profile, k_n[p], closed, closed_turn, state[p, ST_ACTIVE] == 0,
+                                           rest)  # fmt: skip
         # tangential force: incremental spring, dashpot, Coulomb stick/slip
         spring = state[p, ST_FT] - k_t[p] * slip_t
         if state[p, ST_ACTIVE] == 0 and f_n > 0.0 and area > 0.0:  # where stick began (_stick_since_touch)
-            spring = _stick_since_touch(spring, f_n, mu_k[p], deepest * frame[LENGTH] / area)
+            spring = _stick_since_touch(spring, f_n, mu_k[p], state[p, ST_DEEPEST] * frame[LENGTH] / area)
         trial = spring - c_t[p] * v_t
         slipping = state[p, ST_SLIP] > 0
         if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
@@ -472,15 +478,9 @@ def contact_forces(
             sign = 1.0 if trial > 0 else -1.0
             spring = sign * mu_k[p] * f_n
             if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
-                excess_before = abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN]
-                weight = _kinetic_shortfall(excess_before, abs(trial) - limit)
-                if excess_before < 0.0:  # the normal force linear between the last step's and now
-                    fall = now[p, NOW_FN] - f_n
-                    give = 0.5 - weight  # φ
-                    trial = spring + sign * weight * (mu_s[p] * (f_n + give * fall)
-                                                      - mu_k[p] * (f_n + fall * (0.5 + give) / 2.0))  # fmt: skip
-                else:
-                    trial = spring + sign * (mu_s[p] - mu_k[p]) * f_n * weight
+                trial = spring + sign * _kinetic_shortfall(abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN],
+                                                           abs(trial) - limit, now[p, NOW_FN], f_n, mu_s[p],
+                                                           mu_k[p])  # fmt: skip
             else:
                 trial = spring
             slipping = True
@@ -501,8 +501,7 @@ def contact_forces(
         if f_n > 0.0:
             if undamped:  # parting within the next step, its closing speed grown by this force's push
                 opening = dt * (v_n + 0.5 * dt * f_n / m_eff[p])
-                out, arm_out, deepest = _shallow_impulse(clip, m, frame, k_n[p], opening, -dt * turn, False, tmp,
-                                                         rest)  # fmt: skip
+                out, arm_out = _shallow_impulse(tmp, n_profile, k_n[p], opening, -dt * turn, False, rest)
                 if out > 0.0:
                     arm = (missed * arm + out * arm_out) / (missed + out)
                     missed += out
@@ -514,7 +513,6 @@ def contact_forces(
                 my = missed * (ny + along * ty)
                 _apply(fb, mx, my, px, py, gbx, gby, forces)
                 _apply(fa, -mx, -my, px, py, gax, gay, forces)
-            state[p, ST_DEEPEST] = deepest
         state[p, ST_NX] = nx
         state[p, ST_NY] = ny
         now[p, NOW_FN] = f_n

@@ -721,9 +721,19 @@ def _cut_piece(y0, e0, r0, y1, e1, r1, g0, g1):
 
 
 @kernel(inline="always")
+def kink_impulse(fall, share):
+    """What the CDM's cells miss of the impulse, over Δt (N), of a force whose slope changes by
+    fall/Δt (N/s) at a kink `share` of a step from the nearest grid point on the force's side
+    (a point touching, share = depth/closing; a force ending): the midpoint rule integrates a
+    kinked force with an error fall·Δt·(share − ½)²/2 (the integral from the kink to the
+    cell's far end, against the cells' value; docs/theory.md §10, "The kinks")."""
+    return 0.5 * fall * (share - 0.5) ** 2
+
+
+@kernel(inline="always")
 def _kinked(e, r):
-    """r/2·(σ − ½)², σ = e/r: the midpoint rule's shortfall of a point's impulse, per k·Δt."""
-    return (e - 0.5 * r) ** 2 / (2.0 * r) if r > 0.0 else 0.0
+    """kink_impulse of a point of depth e whose depth changes by r over a step, per k·Δt."""
+    return kink_impulse(r, e / r) if r > 0.0 else 0.0
 
 
 SHALLOW_MARGIN = 1.25
@@ -734,37 +744,14 @@ nowhere)."""
 
 
 @kernel
-def shallow_moments(poly, m, nx, ny, tx, ty, ox, oy, r0, dr, whole, work, rest):
-    """Moments over the overlap poly[:m] (convex) of its part no deeper than the rate r: I0 =
-    ∫h dy and I1 = ∫h·y dy with h = r/2·(σ − ½)², σ = depth/r, y the abscissa along t from
-    (ox, oy), r = r0 + dr·y the depth the bodies gain (or lose) along n over a step there, m
-    (the bodies' relative turning makes it vary along the line); and the largest depth, m.
-
-    These are the points that touched within the last step (or part within the next): the
-    CDM's midpoint rule misses k·r/2·(σ − ½)² of each one's impulse per unit length, over Δt
-    (solver/contact.py, kink_impulse). The depth is piecewise linear in y between the
-    vertices' abscissae, and concave; Simpson's rule (over four panels on the shallow part,
-    where a rate varying along the line makes the integrand rational) is exact where r is
-    uniform. whole: the overlap is new (an episode's first step), so every point counts, the
-    deeper than r as σ = 1 (they came closer than the tolerance a step ago). rest (6,): ∫1,
-    ∫e, ∫e², ∫y, ∫e·y, ∫e²·y dy over the deeper part, for when it parts after all; zero when
-    both ends are deeper than SHALLOW_MARGIN·r. work: (≥ m, 2)."""
-    for k in range(6):
-        rest[k] = 0.0
+def depth_profile(poly, m, nx, ny, tx, ty, ox, oy, work):
+    """The depth along n of the convex overlap poly[:m] at its vertices' abscissae along t
+    (from (ox, oy)), sorted: work[k] = (y, depth), k < the count returned with the largest
+    depth (m); between them the depth is linear in y, and concave. work: (≥ m, 2)."""
     if m < 3:
-        return 0.0, 0.0, 0.0
-    if not whole:  # the depth is concave along the line: nothing is shallow if both ends are deep
-        lo = np.inf
-        hi = -np.inf
-        for k in range(m):
-            y = (poly[k, 0] - ox) * tx + (poly[k, 1] - oy) * ty
-            lo = min(lo, y)
-            hi = max(hi, y)
-        if (_chord(poly, m, lo, nx, ny, tx, ty, ox, oy) > SHALLOW_MARGIN * (r0 + dr * lo)
-                and _chord(poly, m, hi, nx, ny, tx, ty, ox, oy) > SHALLOW_MARGIN * (r0 + dr * hi)):  # fmt: skip
-            return 0.0, 0.0, 0.0
+        return 0, 0.0
     n = 0
-    for k in range(m):  # the vertices' abscissae, sorted (insertion)
+    for k in range(m):  # insertion sort of the abscissae
         y = (poly[k, 0] - ox) * tx + (poly[k, 1] - oy) * ty
         i = n
         while i > 0 and work[i - 1, 0] > y:
@@ -774,18 +761,42 @@ def shallow_moments(poly, m, nx, ny, tx, ty, ox, oy, r0, dr, whole, work, rest):
         n += 1
     deepest = 0.0
     for k in range(n):
-        e = _chord(poly, m, work[k, 0], nx, ny, tx, ty, ox, oy)
-        deepest = max(deepest, e)
-        work[k, 1] = e
+        work[k, 1] = _chord(poly, m, work[k, 0], nx, ny, tx, ty, ox, oy)
+        deepest = max(deepest, work[k, 1])
+    return n, deepest
+
+
+@kernel
+def shallow_moments(profile, n, r0, dr, whole, rest):
+    """Moments over a depth profile (depth_profile: profile[:n] = (y, depth e)) of its part no
+    deeper than the rate r = r0 + dr·y, the depth the bodies gain (or lose) along n over a step
+    there, m (the bodies' relative turning makes it vary along the line): I0 = ∫h dy and
+    I1 = ∫h·y dy with h = r/2·(σ − ½)², σ = e/r.
+
+    These are the points that touched within the last step (or part within the next): the
+    CDM's midpoint rule misses k·r/2·(σ − ½)² of each one's impulse per unit length, over Δt
+    (kink_impulse). Simpson's rule (over four panels on the shallow part, where a rate varying
+    along the line makes the integrand rational) is exact where r is uniform. whole: the
+    overlap is new (an episode's first step), so every point counts, the deeper than r as
+    σ = 1 (they came closer than the tolerance a step ago). rest (6,): ∫1, ∫e, ∫e², ∫y, ∫e·y,
+    ∫e²·y dy over the deeper part, for when it parts after all; zero when both ends (the
+    shallowest points: the depth is concave) are deeper than SHALLOW_MARGIN·r."""
+    for k in range(6):
+        rest[k] = 0.0
+    if n < 2:
+        return 0.0, 0.0
+    if not whole and (profile[0, 1] > SHALLOW_MARGIN * (r0 + dr * profile[0, 0])
+                      and profile[n - 1, 1] > SHALLOW_MARGIN * (r0 + dr * profile[n - 1, 0])):  # fmt: skip
+        return 0.0, 0.0
     i0 = 0.0
     i1 = 0.0
     for k in range(n - 1):
-        ya = work[k, 0]
-        yb = work[k + 1, 0]
+        ya = profile[k, 0]
+        yb = profile[k + 1, 0]
         if not yb > ya:
             continue
-        ea = work[k, 1]
-        eb = work[k + 1, 1]
+        ea = profile[k, 1]
+        eb = profile[k + 1, 1]
         ra = r0 + dr * ya
         rb = r0 + dr * yb
         # the shallow part: e ≤ r and r > 0
@@ -818,7 +829,7 @@ def shallow_moments(poly, m, nx, ny, tx, ty, ox, oy, r0, dr, whole, work, rest):
             rest[3] += w * (y0 + 4.0 * ym + y1)
             rest[4] += w * (e0 * y0 + 4.0 * em * ym + e1 * y1)
             rest[5] += w * (e0 * e0 * y0 + 4.0 * em * em * ym + e1 * e1 * y1)
-    return i0, i1, deepest
+    return i0, i1
 
 
 @kernel
