@@ -31,7 +31,7 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
-from .assembly.timestep import HYBRID_SAMPLING, governing_rule, stability_limit
+from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
 from .interrupts import terminate_as_interrupt
@@ -85,16 +85,16 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
 
 def scene_grid(
     analysis: Analysis, source: str, system: System, contact: ContactArrays, ground: GroundMotion,
-    dt_fraction: float | None = None, sampling: float = HYBRID_SAMPLING, dt_scale: float = 1.0,
+    dt_fraction: float | None = None, sampling_scale: float = 1.0, dt_scale: float = 1.0,
 ) -> tuple[TimeGrid, Callable[[float], TimeGrid] | None]:
-    """The time grid of an analysis (timestep.time_grid; dt_fraction, sampling and dt_scale as
+    """The time grid of an analysis (timestep.time_grid; dt_fraction, sampling_scale and dt_scale as
     there, for `pound bench`), its automatic contact step following the likely contacts
     (contact.omega_step); and, where that step is automatic and contact is possible, the
     function that makes the grid for another contact ω (rad/s), with which execute repeats a
     run that met a stiffer contact (None otherwise)."""
     def regrid(omega_step: float) -> TimeGrid:
         return time_grid(
-            analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction, sampling,
+            analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction, sampling_scale,
             yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
         )  # fmt: skip
 

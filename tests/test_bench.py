@@ -177,3 +177,26 @@ def test_front_counts_one_run_once():
     assert on_front(report) == {"default", "twin", "faster, worse"}
     rows[1] = row("twin", 100, 0.0203, 1.2e-5)  # a different run: it beats the default
     assert on_front(dataclasses.replace(report, rows=rows)) == {"twin", "faster, worse"}
+
+
+def test_a_scene_the_hybrid_takes_exactly_has_a_reference_fine_enough_to_judge_it():
+    """Without contact or yielding members the hybrid's only error is its peaks' interpolation
+    (~1e-9 here), and the CDM at a quarter of the structure's automatic step is itself ~1e-5
+    off, which hid it (every hybrid row of the linear scene read the reference's 1.3e-5). Its
+    reference takes 1/8 of that step again: it moves by less than 1e-6 when halved (CDM error
+    second order: 1/64 of 1.0e-5), and the default's error against it is below 1e-6 too
+    (over the first 6 s: measured 7.3e-8 and 9.7e-8, the reference's own error). Scenes with
+    contact keep a quarter of their (contact-limited) step."""
+    from pounding_cli.api import prepare
+    from pounding_cli.bench.run import EXACT_REFERENCE_FACTOR, SETTINGS, reference_scale
+
+    paths = {p.stem: p for p in scene_files()}
+    assert reference_scale(prepare(paths["paper_pounding"]), 4) == 0.25
+    assert reference_scale(prepare(paths["linear"]), 4) == 1 / (4 * EXACT_REFERENCE_FACTOR)
+    default = next(s for s in SETTINGS if s.default)
+    (report,) = bench([paths["linear"]], (default,), repeats=1, reference_divisor=4, duration=6.0)
+    assert report.reference.dt_scale == 1 / 32 and report.reference.name == "cdm, Δt auto / 32 (reference)"
+    assert report.convergence.peak_deflection < 1e-6
+    (row,) = report.rows
+    print(f"reference halving {report.convergence.peak_deflection:.2e}, default {row.errors.peak_deflection:.2e}")
+    assert row.errors.peak_deflection < 1e-6

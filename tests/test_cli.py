@@ -64,13 +64,13 @@ def test_validate_prints_periods_and_time_step():
                  "  Rayleigh: ζ = 0.05, 0.05 at modes 1, 3 → a0 = 0.8242 1/s, a1 = 0.0029439 s"):  # fmt: skip
         assert line in lines, r.stdout
     (dt_line,) = [ln for ln in lines if ln.startswith("  Δt = ")]
-    assert dt_line.startswith("  Δt = 2.671e-06 s: auto, 0.00625 × 2/ω_contact — the contact limit governs (0.0004275 s; "
-                              "the structure's: 0.01219 s, building right)")  # fmt: skip
+    assert dt_line == ("  Δt = 2.604e-06 s: auto, 0.00625 × 2/ω_contact — the contact limit governs (0.0004275 s; "
+                       "the structure's: 0.01219 s, building right), shortened to divide the substep")  # fmt: skip
     (hybrid,) = [ln for ln in lines if ln.startswith("  integrator: ")]
-    # 30,600 substeps of 1/9 of the 0.01 s record (and output) interval, taken as 4 double
-    # and 1 single step per interval where nothing can touch: 5 × 3,400 steps
-    assert a["substeps"] == 30600 and a["steps"] == 17000
-    assert f"hybrid — {a['steps']:,} exact steps while no contact is possible (30,600 substeps of 0.001111 s" in hybrid
+    # 17,000 substeps of 1/5 of the 0.01 s record (and output) interval (ω_max·h ≤ 0.4), taken
+    # as 2 double and 1 single step per interval where nothing can touch: 3 × 3,400 steps
+    assert a["substeps"] == 17000 and a["steps"] == 10200
+    assert f"hybrid — {a['steps']:,} exact steps while no contact is possible (17,000 substeps of 0.002 s" in hybrid
     assert f"{a['steps_of_dt']:,} steps of Δt would span the whole 34 s" in hybrid
     assert any(ln.startswith("excitation: ") and ln.endswith("PGA X 0.526 g, Y 0.471 g") for ln in lines)
     assert max(map(len, lines)) > 80  # long lines kept whole

@@ -83,7 +83,9 @@ def test_corner_scene_steps_by_its_likely_contacts_at_the_same_peaks():
 def test_a_run_that_meets_a_stiffer_contact_repeats_at_its_step():
     """The paper's buildings face to face, told to expect contacts 5× softer than they are:
     the first run meets the face contact, and the run is repeated at the step of the stiffest
-    contact it met; the result is the run prepared at that step, bit for bit."""
+    contact it met; the result is the run prepared at that step, bit for bit. The repeated
+    run meets the same contacts on its finer grid: the stiffest of them within 1e-6 (measured
+    1.1e-7: the longest contact line sampled at other instants), far inside RERUN_MARGIN."""
     scene = prepare(INPUTS / "paper_pounding.toml")
     contact = scene.contact
     soft = 0.2 * contact.omega_max
@@ -93,8 +95,8 @@ def test_a_run_that_meets_a_stiffer_contact_repeats_at_its_step():
     assert d["contact_reruns"] == 1
     seen = d["contact_omega_seen"]
     assert seen > RERUN_MARGIN * soft
-    assert d["contact_omega_step"] == pytest.approx(seen, rel=1e-12)
-    direct = execute(dataclasses.replace(scene, grid=scene.regrid(seen), regrid=None))
+    assert d["contact_omega_step"] == pytest.approx(seen, rel=1e-6)
+    direct = execute(dataclasses.replace(scene, grid=scene.regrid(d["contact_omega_step"]), regrid=None))
     assert direct.diagnostics["dt"] == d["dt"]
     for name, building in result.buildings.items():
         np.testing.assert_array_equal(building.interstorey_deflection, direct.buildings[name].interstorey_deflection)

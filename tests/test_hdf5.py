@@ -138,8 +138,8 @@ def test_impacts_written_and_read_back(tmp_path):
             assert f[f"impacts/{name}"].shape == (nt, 3)
         assert f["impacts/action_point"].shape == (nt, 3, 2)
         # the contact column of the energy is the work the contacts took; the balance closes
-        # to the error of the fourth-order quadrature over the hybrid's exact steps of 1.1 and
-        # 2.2 ms and of the trapezoidal rule over its CDM steps of 2.7 µs (measured 1.1e-7)
+        # to the error of the sixth-order quadrature over the hybrid's exact steps of 2 and
+        # 4 ms and of the trapezoidal rule over its CDM steps of 2.6 µs (measured 2.1e-9)
         assert abs(f["energy"][:, 6]).max() < 1e-6 * f["energy"][:, 0].max()
     again = pound.read_hdf5(path)
     assert again.contact.events.tolist() == c.events.tolist()

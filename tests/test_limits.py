@@ -96,7 +96,8 @@ def test_the_step_limit_refuses_about_a_billion_steps_and_accepts_below_the_limi
     dt = scene.grid.dt
     doc = example_doc()
     doc["analysis"].update(duration=10.0 * round(9.8e8 * dt / 10.0), output_interval=10.0)  # whole outputs
-    assert re.search(r"analysis\.duration: the analysis would take 9\.8\d*e\+08 time steps", refusal(doc))
+    taken = re.search(r"analysis\.duration: the analysis would take (\d\.\d+)e\+08 time steps", refusal(doc))
+    assert taken and float(taken[1]) == pytest.approx(9.8, abs=0.02)  # the duration rounded to whole outputs
     doc["analysis"]["duration"] = 1.9e8 * dt
     assert pound.describe(load_doc(doc))["analysis"]["steps"] <= 2e8
 

@@ -1,4 +1,4 @@
-"""Peaks between exact states: the cubic Hermite interpolant's maximum (solver/peaks.py)
+"""Peaks between exact states: the quintic Hermite interpolant's maximum (solver/peaks.py)
 against closed forms, and the hybrid's peaks against the exact solution sampled finely."""
 
 from __future__ import annotations
@@ -8,69 +8,77 @@ import pytest
 
 import pounding_cli as pound
 from pounding_cli.assembly import assemble, ground_motion
-from pounding_cli.solver.peaks import hermite_peak
+from pounding_cli.solver.peaks import quintic_peak
 
 from test_time_history import _eccentric_case, _exact_peaks
 
 
-@pytest.mark.parametrize("omega_h", [0.05, 0.2, 0.4])
-def test_crest_of_a_sine_within_the_hermite_bound(omega_h):
-    """q = A·cos(ω(τ − τ_c)) with its crest at τ_c inside the step: the interpolant's maximum
-    is within h⁴·max|q''''|/384 = (ω·h)⁴/384·A of A (the cubic Hermite error bound), whereas
-    the larger end value misses by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8."""
+@pytest.mark.parametrize("omega_h", [0.2, 0.8, 1.6])
+def test_crest_of_a_sine_within_the_quintic_bound(omega_h):
+    """q = A·cos(ω(τ − τ_c)) with its crest at τ_c inside the step, given q, q̇ and q̈ at both
+    ends: the interpolant's maximum is within h⁶·max|q⁽⁶⁾|/46080 = (ω·h)⁶/46080·A of A (the
+    quintic Hermite error bound; 1.4e-3 of A at ω·h = 1.6, twice the default double substep),
+    whereas the larger end value misses by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8 and the cubic
+    through q, q̇ alone by up to (ω·h)⁴/384."""
     amplitude, omega = 0.03, 20.0
     h = omega_h / omega
-    worst_end = 0.0
+    worst_end = worst = 0.0
     for fraction in np.linspace(0.02, 0.98, 49):
         crest = fraction * h
-        q0, q1 = amplitude * np.cos(omega * (0.0 - crest)), amplitude * np.cos(omega * (h - crest))
-        m0, m1 = -amplitude * omega * np.sin(omega * (0.0 - crest)), -amplitude * omega * np.sin(omega * (h - crest))
-        peak = hermite_peak(q0, m0, q1, m1, h, 0.0)
-        assert abs(peak - amplitude) <= omega_h**4 / 384 * amplitude * (1 + 1e-9), fraction
+        q0, q1 = (amplitude * np.cos(omega * (t - crest)) for t in (0.0, h))
+        m0, m1 = (-amplitude * omega * np.sin(omega * (t - crest)) for t in (0.0, h))
+        c0, c1 = -(omega**2) * q0, -(omega**2) * q1
+        peak = quintic_peak(q0, m0, c0, q1, m1, c1, h, 0.0)
+        assert abs(peak - amplitude) <= omega_h**6 / 46080 * amplitude * (1 + 1e-9), fraction
+        worst = max(worst, abs(peak - amplitude))
         worst_end = max(worst_end, amplitude - max(abs(q0), abs(q1)))
     assert worst_end > 0.9 * (1 - np.cos(omega_h / 2)) * amplitude  # what sampling the ends alone would miss
+    assert worst < 0.05 * omega_h**4 / 384 * amplitude  # far inside the cubic's bound
 
 
-def test_cubic_interpolated_exactly():
-    """A cubic is its own Hermite interpolant: its interior extrema, found by numpy's roots of
-    q', are returned to rounding (q = s³ − 1.35s² + 0.42s − 0.05 on s = τ/h ∈ [0, 1], h = 0.5 s:
-    stationary at s = 0.2 and 0.7, the largest |q| = 0.0745 inside, above both ends)."""
+def test_quintic_interpolated_exactly():
+    """A quintic is its own Hermite interpolant: its interior extrema, found by numpy's roots
+    of q', are returned to rounding (q = s(1 − s)(s − 0.35)(s² + 0.1) + 0.001 on s = τ/h,
+    h = 0.5 s: stationary at s = 0.20 and 0.82, |q| = 0.0546 at the latter, 0.001 at the ends)."""
     h = 0.5
-    coefficients = np.array([1.0, -1.35, 0.42, -0.05])  # highest power first
-    q = np.poly1d(coefficients)
-    dq = q.deriv()
+    q = np.poly1d([-1.0, 1.0, 0.0]) * np.poly1d([1.0, -0.35]) * np.poly1d([1.0, 0.0, 0.1]) + 0.001
+    dq, ddq = q.deriv(), q.deriv(2)
     stationary = [s.real for s in dq.r if abs(s.imag) < 1e-12 and 0 < s.real < 1]
     assert len(stationary) == 2
     expected = max(abs(q(s)) for s in stationary)
     assert expected > max(abs(q(0.0)), abs(q(1.0)))
-    got = hermite_peak(q(0.0), dq(0.0) / h, q(1.0), dq(1.0) / h, h, 0.0)
-    assert got == pytest.approx(expected, rel=1e-14)
+    got = quintic_peak(q(0.0), dq(0.0) / h, ddq(0.0) / h**2, q(1.0), dq(1.0) / h, ddq(1.0) / h**2, h, 0.0)
+    assert got == pytest.approx(expected, rel=1e-13)
 
 
 def test_running_peak_kept_when_the_step_cannot_exceed_it():
-    """The bound max(|q₀|, |q₁|) + 4/27·h·(|q̇₀| + |q̇₁|) below the running peak: returned as is;
-    a monotonic step (no interior stationary point) never lowers or raises it."""
-    assert hermite_peak(0.1, 1.0, 0.2, 1.0, 0.01, 0.5) == 0.5
-    assert hermite_peak(0.1, 10.0, 0.2, 10.0, 0.01, 0.15) == 0.15
+    """The bound max(|q₀|, |q₁|) + 4/27·h·(|q̇₀| + |q̇₁|) + 0.01728·(|E₀| + |E₁|) below the
+    running peak (E: the second derivatives' mismatch with the cubic's): returned as is; a
+    monotonic step (no interior stationary point) never lowers or raises it."""
+    assert quintic_peak(0.1, 1.0, 0.0, 0.2, 1.0, 0.0, 0.01, 0.5) == 0.5
+    assert quintic_peak(0.1, 10.0, 0.0, 0.2, 10.0, 0.0, 0.01, 0.15) == 0.15
+    assert quintic_peak(0.1, 10.0, 50.0, 0.2, 10.0, -50.0, 0.01, 0.15) == 0.15
 
 
 def test_hybrid_peaks_match_the_exact_solution_sampled_finely():
     """With the interpolated peaks, every significant peak interstorey deflection (x, y, θ) of
     the eccentric 4-storey building under both components is within 1e-6 of the exact
     (matrix-exponential) solution sampled every 0.05 ms, where the exact samples' own error is
-    (ω₁·0.05 ms)²/8 ≈ 5e-8. The hybrid's substeps are 2 ms (ω_max·h = 0.2), taken two at once
-    here (no contact): sampled at the substeps alone, the peaks were 3.6e-4 off; the
-    interpolant's bound over 4 ms is (ω·2h)⁴/384 = 6.7e-5 of the highest mode's share of a
-    peak, and the peaks are the lower modes'. Measured 5.3e-7 (1.0e-7 with single substeps)."""
+    (ω₁·0.05 ms)²/8 ≈ 5e-8. The hybrid's substeps are 3.3 ms (ω_max·h = 0.33), taken two at
+    once here (no contact): sampled at the substeps alone, the peaks were 3.6e-4 off at 2 ms;
+    the quintic's bound over 6.7 ms is (ω·2h)⁶/46080 = 1.9e-6 of the highest mode's share of a
+    peak (the cubic through values and rates alone: 5.1e-4), and the peaks are the lower
+    modes'. Measured 1.7e-7 at ω_max·h = 0.1, 0.2, 0.4 and 0.8 alike: the exact samples' own
+    error (the cubic gave 5.3e-7 at 0.2)."""
     loaded = _eccentric_case("hybrid")
     result = pound.run_model(loaded)
-    assert result.diagnostics["cdm_steps"] == 0 and result.diagnostics["substep"] == pytest.approx(0.002)
+    assert result.diagnostics["cdm_steps"] == 0 and result.diagnostics["substep"] == pytest.approx(1 / 300)
     exact, _ = _exact_peaks(assemble(loaded).buildings[0], ground_motion(loaded), substeps=200)
     got = result.buildings["b"].interstorey_deflection
     for k, name in enumerate(("x", "y", "θ")):
         significant = exact[:, :, k] > 1e-3 * exact[:, :, k].max()
         rel = np.abs(got[:, :, k] - exact[:, :, k])[significant] / exact[:, :, k][significant]
-        assert rel.max() < 1e-6, f"{name}: worst relative peak error {rel.max():.2e}"
+        assert rel.max() < 4e-7, f"{name}: worst relative peak error {rel.max():.2e}"
 
 
 def test_hybrid_peak_accelerations_match_the_exact_solution_sampled_finely():
@@ -78,8 +86,9 @@ def test_hybrid_peak_accelerations_match_the_exact_solution_sampled_finely():
     the exact solution's −M⁻¹(K·u + C·v) sampled every 0.05 ms (its own sampling error
     (ω_max·0.05 ms)²/8 ≈ 3e-6 of the highest mode's share). Accelerations weigh the high
     modes by ω², so sampling them at the exact states alone missed by up to (ω·h)²/8 of the
-    highest mode's share; the cubic through (a, ȧ) at both ends of each exact step is within
-    (ω·h)⁴/384 of it: 6.7e-5 at the double substeps of 4 ms (ω_max·2h = 0.4)."""
+    highest mode's share; the quintic through (a, ȧ, ä) at both ends of each exact step is
+    within (ω·h)⁶/46080 of it: 1.9e-6 at the double substeps of 6.7 ms (ω_max·2h = 0.67).
+    Measured 1.9e-7; the cubic through (a, ȧ) alone gave 2.2e-5 at this substep."""
     from exact import exact_response
 
     loaded = _eccentric_case("hybrid")
@@ -99,29 +108,30 @@ def test_hybrid_peak_accelerations_match_the_exact_solution_sampled_finely():
     got = result.buildings["b"].peak_acceleration
     rel = np.abs(got - exact) / exact
     print(f"worst relative peak acceleration error {rel.max():.2e}")
-    assert rel.max() < 1e-4
+    assert rel.max() < 1e-6
 
 
-def test_hybrid_energy_balance_closes_at_fourth_order():
-    """The input and damping work over exact steps by the end-corrected trapezoidal rule
-    h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁): the balance error of the eccentric building (no contact,
-    every step exact) falls as h⁴: its observed order between the default substep (2 ms) and
-    half of it is above 3.5 (the plain trapezoidal rule's is 2), and at the default it is
-    below 1e-6 of the input (8.6e-5 with the trapezoidal rule). Measured 3.8e-7 and 3.0e-8:
-    order 3.65."""
+def test_hybrid_energy_balance_closes_at_sixth_order():
+    """The input and damping work over exact steps by Euler–Maclaurin's rule to sixth order,
+    h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁) − h⁴/720·(p⃛₀ − p⃛₁), with the powers' rates from the exact
+    states: the balance error of the eccentric building (no contact, every step exact) falls as
+    h⁶: its observed order between the default substep (3.3 ms) and 2 ms is above 5.5 (the
+    fourth-order rule without the h⁴ term: 4, the plain trapezoidal rule: 2), and at the
+    default it is below 3e-8 of the input (3.8e-7 with the fourth-order rule at 2 ms, 8.6e-5
+    with the trapezoidal rule). Measured 1.1e-8 and 5.7e-10: order 5.7."""
     from pounding_cli.api import execute, prepare
     from pounding_cli.bench.run import Setting, with_setting
 
     scene = prepare(_eccentric_case("hybrid"))
     errors, substeps = [], []
-    for sampling in (0.2, 0.1):
-        result = execute(with_setting(scene, Setting("x", "hybrid", sampling=sampling)))
+    for scale in (1.0, 0.5):  # ω_max·h ≤ 0.4 (the default), 0.2
+        result = execute(with_setting(scene, Setting("x", "hybrid", sampling_scale=scale)))
         assert result.diagnostics["cdm_steps"] == 0
         errors.append(result.balance_error_ratio)
         substeps.append(result.diagnostics["substep"])
     order = np.log(errors[0] / errors[1]) / np.log(substeps[0] / substeps[1])
     print(f"balance error {errors[0]:.2e} at h = {substeps[0] * 1e3:.3g} ms, {errors[1]:.2e} at "
           f"{substeps[1] * 1e3:.3g} ms: order {order:.2f}")  # fmt: skip
-    assert substeps[0] == pytest.approx(2 * substeps[1])
-    assert order > 3.5
-    assert errors[0] < 1e-6
+    assert substeps == pytest.approx([1 / 300, 1 / 500])
+    assert order > 5.5
+    assert errors[0] < 3e-8

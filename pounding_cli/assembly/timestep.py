@@ -12,14 +12,14 @@ the run checks it against the contacts it met, api.execute).
 The hybrid integrator (the default) advances the buildings exactly over substeps h while no
 contact is possible: h divides the record's sample interval (so the ground acceleration is
 linear within it) and is short enough to sample peaks well, ω_max,structure·h ≤
-HYBRID_SAMPLING; around contacts it runs the CDM at Δt = h/sub. Where only yielding members
-need the CDM (no contact possible), the contact does not limit the step: the CDM runs at
-h/sub_y, the same fraction of the structure's own limit (sub_y ≤ sub). Toward a contact
-the hybrid halves its exact step down to h/2^L (its approach levels, solver/integrate.py:
-approach_levels): with `dt = "auto"` and contact possible, sub is rounded up to a multiple
-of 2^L (L the largest with sub/2^L ≥ APPROACH_MIN_STEPS), a step at most 1/8 finer.
-Everything is expressed in CDM steps at the contact step: n_steps and stride are multiples
-of `substep` (= sub).
+HYBRID_SAMPLING (YIELD_SAMPLING with yielding members); around contacts it runs the CDM at
+Δt = h/sub. Where only yielding members need the CDM (no contact possible), the contact does
+not limit the step: the CDM runs at h/sub_y, the same fraction of the structure's own limit
+(sub_y ≤ sub). Toward a contact the hybrid halves its exact step down to h/2^L (its approach
+levels, solver/integrate.py: approach_levels): with `dt = "auto"` and contact possible, sub
+is rounded up to a multiple of 2^L (L the largest with sub/2^L ≥ APPROACH_MIN_STEPS), a step
+at most 1/8 finer. Everything is expressed in CDM steps at the contact step: n_steps and
+stride are multiples of `substep` (= sub).
 """
 
 from __future__ import annotations
@@ -54,15 +54,28 @@ scene the peaks are within 3.6e-5 of a converged CDM at 0.0125, 2.0e-4 at 0.025 
 0.05 (docs/bench.md, "This release"); with the closest-point return used
 before it was first order, 1.5e-3 at 0.0125."""
 
-HYBRID_SAMPLING = 0.2
-"""Exact substeps satisfy ω_max·h ≤ HYBRID_SAMPLING (free vibration takes two at once where
-it can, solver/hybrid.py). The peaks between substeps come from the cubic through their
-exact states (solver/peaks.py: error ≤ (ω·h)⁴/384 of a mode's amplitude), so h no longer
-bounds their accuracy; it sets the horizon of the contact and yielding checks and where the
-CDM starts and stops. The bench (docs/bench.md, "What would put it on the front
-everywhere") finds 0.4 8–18 % faster at equal accuracy in most scenes without yielding
-members (the Kobe example: 0.078 % against 0.076 %), but slower and less accurate with them,
-whose longer horizon sends more steps to the CDM."""
+HYBRID_SAMPLING = 0.4
+"""Exact substeps satisfy ω_max·h ≤ HYBRID_SAMPLING where no member yields (free vibration
+takes two at once where it can, solver/hybrid.py). The peaks between exact states come from
+the quintic through their values, rates and second derivatives (solver/peaks.py: error ≤
+(ω·H)⁶/46080 of a mode's share over a span H), so h bounds their accuracy only weakly: 5.7e-6
+of the highest mode's share over the double substeps (ω·H ≤ 0.8), where the cubic used before
+at 0.2 allowed 6.7e-5. The longer h also sets the horizon of the contact checks and where the
+CDM starts and stops; the bench (docs/bench.md, "The substeps") finds 0.4 faster than 0.2 in
+every scene without yielding members at no worse error. Beyond 0.4 the bench's scenes do not
+show the peaks' error (their highest modes carry little), but a structure whose highest mode
+carries its peak would: 3.6e-4 of it at 0.8."""
+
+YIELD_SAMPLING = 0.2
+"""ω_max·h with yielding members: their yield check looks h ahead, and a member that may
+yield within it sends the whole substep to the CDM at the yielding step, so longer substeps
+cost more CDM steps than they save (the bench's inelastic and isolated scenes are slower
+and less accurate at 0.4)."""
+
+
+def hybrid_sampling(yielding: bool) -> float:
+    """The hybrid's ω_max·h: YIELD_SAMPLING where members yield, HYBRID_SAMPLING elsewhere."""
+    return YIELD_SAMPLING if yielding else HYBRID_SAMPLING
 
 
 @dataclass(frozen=True)
@@ -140,7 +153,7 @@ def time_grid(
     omega_contact: float = 0.0,
     record_dt: float | None = None,
     dt_fraction: float | None = None,
-    sampling: float = HYBRID_SAMPLING,
+    sampling_scale: float = 1.0,
     yielding: bool = False,
     dt_scale: float = 1.0,
     omega_contact_step: float | None = None,
@@ -150,7 +163,7 @@ def time_grid(
     the likely fastest contact, which the automatic step follows (default omega_contact);
     yielding: the structure has yielding members. For `pound bench`: dt_fraction replaces the
     automatic rule by dt_fraction · 2/ω_max (structure or contact, the smaller limit);
-    dt_scale scales every automatic step; sampling sets the hybrid's substeps."""
+    dt_scale scales every automatic step; sampling_scale the hybrid's ω_max·h (hybrid_sampling)."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
     omega_step = omega_contact if omega_contact_step is None else omega_contact_step
@@ -175,7 +188,7 @@ def time_grid(
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)
     if hybrid and record_dt is not None:
-        h, stride_h = _substeps(record_dt, out, sampling / omega_max)
+        h, stride_h = _substeps(record_dt, out, sampling_scale * hybrid_sampling(yielding) / omega_max)
         sub = max(1, math.ceil(h / target - 1e-9))
         if omega_contact > 0 and analysis.dt == "auto":  # room for the approach levels (solver.integrate.approach_levels)
             power = 2 ** max(0, int(math.log2(sub / APPROACH_MIN_STEPS)))

@@ -4,7 +4,7 @@ difference method (CDM) around impacts.
 While every pair of bodies is apart by more than it can close within the horizon, the
 buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
 interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
-error; the peaks between two exact states come from the cubic through them (peaks.py).
+error; the peaks between two exact states come from the quintic through them (peaks.py).
 Where nothing can touch or yield within 4h and no output or record sample falls inside,
 two substeps are taken as one (Φ of 2h): the substep grid, on which the approach below
 starts, is unchanged. When a contact may begin within 2h (bounding
@@ -34,6 +34,7 @@ from __future__ import annotations
 
 from .cdm import (
     ACC_DAMPING,
+    ACC_D3_DAMPING,
     ACC_DP_DAMPING,
     ACC_FRESH,
     ACC_INPUT,
@@ -65,6 +66,7 @@ LEAVE_HORIZON = 4.0  # substeps ahead it must be ruled out to leave the CDM
 # time propagated exactly, in CDM steps
 CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN = range(5)
 N_COUNTERS = 5
+N_RATES = 7  # rows of exact_point's `rates`
 
 
 @kernel
@@ -95,9 +97,12 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     ∫p = h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁), fourth order), the peaks. When that last state was the previous exact point
     (an open account: no hand-over since), the peaks include those of the step between
     (peaks_between, from what kept and between hold of that state; first: the storeys' first
-    columns); for the accelerations' it needs their rates, ȧ = −M⁻¹(K·v + C·a_rel) (the
-    ground's own rate drops out: a_abs depends on u and v alone), left in rates[2] (rates[0],
-    rates[1]: K·a_rel, C·a_rel). Returns the ground acceleration (X, Y) at t."""
+    columns); for the accelerations' it needs their first two rates: ȧ = −M⁻¹(K·v + C·a_rel)
+    (the ground's own rate drops out: a_abs depends on u and v alone), left in rates[2], and
+    ä = −M⁻¹(K·a_rel + C·ȧ_rel) with ȧ_rel = ȧ − ȧ_g, whose part without the ground's rate ȧ_g
+    is left in rates[3] (rates[0], rates[1], rates[4]: K·a_rel, C·a_rel, C·ȧ; rates[5],
+    rates[6] hold M⁻¹·C·e_X and M⁻¹·C·e_Y, e the floors' unit translations, which carry the
+    rest: integrate.ground_rate_response). Returns the ground acceleration (X, Y) at t."""
     smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
     agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
                            ground_dt, g)  # fmt: skip
@@ -106,33 +111,64 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     damping_force(a_rel, rates[0], mass, damping, n_dof, rates[1])
     for d in range(n_dof):
         rates[2, d] = -(kv[d] + rates[1, d]) / mass[d]
-    p_in = 0.0
-    p_damp = 0.0
-    dp_damp = 0.0  # its rate, 2·a_relᵀ·C·v (C symmetric)
-    for d in range(0, n_dof, 3):
-        p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
+    storey_matvec(rates[2], storey_k, bottom, top, rates[3])
+    damping_force(rates[2], rates[3], mass, damping, n_dof, rates[4])
     for d in range(n_dof):
-        p_damp += v[d] * cv[d]
-        dp_damp += 2.0 * a_rel[d] * cv[d]
-    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
-    # the input power's rate ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel), a_g linear over the step
+        rates[3, d] = -(rates[0, d] + rates[4, d]) / mass[d]
+    # the ground acceleration's rate over the step (linear within it: steps never cross a
+    # record sample), which the peaks' second derivatives of the accelerations need
+    a0x = a0y = sx = sy = 0.0
     if smooth:
         a0x, a0y = ground_at(t - gap, ground, ground_dt)
         sx = (agx - a0x) / gap
         sy = (agy - a0y) / gap
-        dp_in0 = 0.0
-        dp_in1 = 0.0
+    p_in = 0.0
+    p_damp = 0.0
+    dp_damp = 0.0  # its rate, 2·a_relᵀ·C·v (C symmetric)
+    # its third rate 2·(ä_relᵀ·C·v + 3·ȧ_relᵀ·C·a_rel) = d3 + sx·d3x + sy·d3y, as ȧ_rel and
+    # ä_rel depend on the ground's rate over the step (ä_rel = ä: a_g is linear within it)
+    d3 = d3x = d3y = 0.0
+    for d in range(0, n_dof, 3):
+        p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
+        d3x -= 6.0 * rates[1, d]
+        d3y -= 6.0 * rates[1, d + 1]
+    for d in range(n_dof):
+        p_damp += v[d] * cv[d]
+        dp_damp += 2.0 * a_rel[d] * cv[d]
+        d3 += 2.0 * (rates[3, d] * cv[d] + 3.0 * rates[2, d] * rates[1, d])
+        d3x += 2.0 * rates[5, d] * cv[d]
+        d3y += 2.0 * rates[6, d] * cv[d]
+    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
+    # Euler–Maclaurin to sixth order: ∫p = h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁) − h⁴/720·(p⃛₀ − p⃛₁),
+    # the input power's rates ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel) and
+    # p⃛_in = −Σ m·(3·ȧ_g·ȧ_rel + a_g·ä_rel), a_g linear over the step
+    if smooth:
+        dp_in0 = dp_in1 = d3p_in0 = d3p_in1 = 0.0
         for d in range(0, n_dof, 3):
             dp_in0 -= mass[d] * (sx * kept[1, d] + a0x * (kept[2, d] - a0x) + sy * kept[1, d + 1]
                                  + a0y * (kept[2, d + 1] - a0y))  # fmt: skip
             dp_in1 -= mass[d] * (sx * v[d] + agx * a_rel[d] + sy * v[d + 1] + agy * a_rel[d + 1])
-        acc[ACC_INPUT] += gap * gap / 12.0 * (dp_in0 - dp_in1)
-        acc[ACC_DAMPING] += gap * gap / 12.0 * (acc[ACC_DP_DAMPING] - dp_damp)
+            snap0x = kept[5, d] + sx * rates[5, d] + sy * rates[6, d]
+            snap0y = kept[5, d + 1] + sx * rates[5, d + 1] + sy * rates[6, d + 1]
+            snap1x = rates[3, d] + sx * rates[5, d] + sy * rates[6, d]
+            snap1y = rates[3, d + 1] + sx * rates[5, d + 1] + sy * rates[6, d + 1]
+            d3p_in0 -= mass[d] * (3.0 * (sx * (kept[3, d] - sx) + sy * (kept[3, d + 1] - sy))
+                                  + a0x * snap0x + a0y * snap0y)  # fmt: skip
+            d3p_in1 -= mass[d] * (3.0 * (sx * (rates[2, d] - sx) + sy * (rates[2, d + 1] - sy))
+                                  + agx * snap1x + agy * snap1y)  # fmt: skip
+        d3p_damp0 = acc[ACC_D3_DAMPING] + sx * acc[ACC_D3_DAMPING + 1] + sy * acc[ACC_D3_DAMPING + 2]
+        d3p_damp1 = d3 + sx * d3x + sy * d3y
+        h2 = gap * gap
+        acc[ACC_INPUT] += h2 / 12.0 * (dp_in0 - dp_in1) - h2 * h2 / 720.0 * (d3p_in0 - d3p_in1)
+        acc[ACC_DAMPING] += h2 / 12.0 * (acc[ACC_DP_DAMPING] - dp_damp) - h2 * h2 / 720.0 * (d3p_damp0 - d3p_damp1)
     acc[ACC_DP_DAMPING] = dp_damp
+    acc[ACC_D3_DAMPING] = d3
+    acc[ACC_D3_DAMPING + 1] = d3x
+    acc[ACC_D3_DAMPING + 2] = d3y
     update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
                  peak_rot, peak_disp, peak_acc)  # fmt: skip
-    peaks_between(gap, smooth, u, v, a_abs, rates[2], n_dof, bottom, top, storey_axes, centre, col_arm, first,
-                  storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+    peaks_between(gap, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, bottom, top, storey_axes, centre, col_arm,
+                  first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
     return agx, agy
 
 
@@ -190,7 +226,7 @@ def hybrid_advance(
     # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
     # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
     # first: what peaks_between keeps of the last exact state, and the storeys' first columns;
-    # rates: exact_point's work (3, n_dof + 3); phi2, g02, g12: Φ, Γ₀, Γ₁ of a double substep 2h
+    # rates: exact_point's work (N_RATES, n_dof + 3; integrate.ground_rate_response); phi2, g02, g12: Φ, Γ₀, Γ₁ of a double substep 2h
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
     rates, phi2, g02, g12,
     # everything cdm.advance takes after its first five arguments

@@ -17,7 +17,7 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
-from .peaks import between_arrays
+from .peaks import KEPT_ROWS, between_arrays
 from .propagator import building_propagators
 
 DIVERGENCE_LIMIT = 100.0
@@ -179,6 +179,20 @@ def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
     out = np.zeros_like(x)
     np.add.at(out, index, np.einsum("sij,sj->si", structure.storey_k, x[index]))
     return out
+
+
+def ground_rate_response(structure: StructureArrays) -> np.ndarray:
+    """The hybrid's exact_point work array (hybrid.N_RATES, n_dof + 3) with rows 5 and 6 set to
+    M⁻¹·C·e_X and M⁻¹·C·e_Y (1/s), e_X, e_Y the floors' unit translations: the floor
+    accelerations' second rate ä = −M⁻¹(K·a_rel + C·(ȧ − ȧ_g)) gains sx·row 5 + sy·row 6
+    from the ground acceleration's rate (sx, sy), m/s³."""
+    n = structure.mass.size
+    rates = np.zeros((hybrid.N_RATES, n + 3))
+    for axis in range(2):
+        unit = np.zeros(n + 3)
+        unit[axis:n:3] = 1.0
+        rates[5 + axis, :n] = damping_times(structure, unit)[:n] / structure.mass
+    return rates
 
 
 def damping_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
@@ -369,8 +383,8 @@ def simulate(
         v_exact = v0.copy()
         exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
                       np.zeros(phi.shape[2]), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
-                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((4, n_dof + 3)),
-                      *between_arrays(structure.column_storey, col_arm, n_storeys), np.zeros((3, n_dof + 3)),
+                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((KEPT_ROWS, n_dof + 3)),
+                      *between_arrays(structure.column_storey, col_arm, n_storeys), ground_rate_response(structure),
                       *building_propagators(blocks, damping_dense, structure.mass, starts, counts, 2 * h))  # fmt: skip
         unit, total = substep, n_steps // substep
 

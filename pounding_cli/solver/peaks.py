@@ -2,12 +2,15 @@
 accelerations.
 
 Peaks are taken at every state the integrator reaches (update_peaks). Where it reaches them
-by exact propagation the steps are long (ω_max·h up to 0.4) and a peak falling between two
-states would be missed by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8 of its size. There the motion
-between the states is smooth and both ends carry exact displacements and velocities, so
-peaks_between also takes the largest value of the cubic Hermite interpolant of each
-deflection, displacement and absolute acceleration over the step: its error is (ω·h)⁴/384
-of the amplitude, 4·10⁻⁶ at ω·h = 0.2, 6.7·10⁻⁵ over the hybrid's double substeps (0.4).
+by exact propagation the steps are long (ω_max·h up to 0.4, two substeps at once in free
+vibration) and a peak falling between two states would be missed by up to
+1 − cos(ω·h/2) ≈ (ω·h)²/8 of its size. There the motion between the states is smooth and both
+ends carry exact values and their first two rates (displacements: u, v, a_rel; absolute
+accelerations: a, ȧ, ä), so peaks_between also takes the largest value of the quintic
+Hermite interpolant of each deflection, displacement and absolute acceleration over the step.
+Its error is h⁶·max|q⁽⁶⁾|/(6!·2⁶) = (ω·h)⁶/46080 of a mode's share: 5.7·10⁻⁶ over the
+hybrid's double substeps (ω·h = 0.8), where the cubic through values and rates alone,
+(ω·h)⁴/384, allowed 1.1·10⁻³ there.
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ from .jit import kernel
 HERMITE_ARM = 4.0 / 27.0
 """The largest value of the Hermite basis functions s(1 − s)² and s²(1 − s) on [0, 1]: the
 cubic through (q₀, q̇₀) and (q₁, q̇₁) over a step h stays within max(|q₀|, |q₁|) +
-HERMITE_ARM·h·(|q̇₀| + |q̇₁|), which lets most steps skip the search for its maximum."""
+HERMITE_ARM·h·(|q̇₀| + |q̇₁|); with QUINTIC_BEND's term, the quintic's bound, which lets most
+steps skip the search for its maximum."""
 
 
 @kernel(inline="always")
@@ -69,46 +73,126 @@ def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, cent
             peak_acc[d] = abs(acc_abs[d])
 
 
+QUINTIC_BEND = 0.01728
+"""The largest s²(1 − s)³/2 on [0, 1]: the quintic Hermite basis of a second derivative, the
+most the quintic departs from the cubic per unit of their second derivatives' mismatch."""
+
+
 @kernel(inline="always")
-def hermite_peak(q0, m0, q1, m1, h, peak):
-    """The larger of `peak` and |q| at the stationary points inside (0, h) of the cubic q(τ)
-    with q(0) = q0, q̇(0) = m0, q(h) = q1, q̇(h) = m1 (values and rates in the same unit, h
-    in s). The ends themselves are update_peaks' business."""
-    if max(abs(q0), abs(q1)) + HERMITE_ARM * h * (abs(m0) + abs(m1)) <= peak:
-        return peak
-    # q(s·h) = q0 + c·s + b·s² + a·s³ on s ∈ [0, 1]
-    c = h * m0
-    b = 3.0 * (q1 - q0) - h * (2.0 * m0 + m1)
-    a = 2.0 * (q0 - q1) + h * (m0 + m1)
-    # q' = 3a·s² + 2b·s + c: roots by the cancellation-free quadratic formula
-    qa = 3.0 * a
-    qb = 2.0 * b
-    best = peak
-    disc = qb * qb - 4.0 * qa * c
-    if disc < 0.0:
-        return best
-    w = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))
-    for k in range(2):
-        if k == 0:
-            if qa == 0.0:
-                continue
-            s = w / qa
+def bend_mismatch(q0, m0, c0, q1, m1, c1, h):
+    """(E₀, E₁): the second derivatives c at the ends (scaled by h²) less the cubic Hermite's
+    through (q, m). The quintic through (q, m, c) is that cubic plus E₀·s²(1 − s)³/2 +
+    E₁·s³(1 − s)²/2 on s ∈ [0, 1]."""
+    d = q1 - q0
+    return h * h * c0 - 2.0 * (3.0 * d - 2.0 * h * m0 - h * m1), h * h * c1 + 6.0 * d - 2.0 * h * m0 - 4.0 * h * m1
+
+
+@kernel(inline="always")
+def _root_between(k0, k1, k2, k3, k4, lo, hi, f_lo):
+    """The root in [lo, hi] of k0 + k1·s + … + k4·s⁴, monotonic there and of opposite signs at
+    the ends (f_lo at lo): Newton's steps, bisection where one would leave the bracket."""
+    s = 0.5 * (lo + hi)
+    for _ in range(60):
+        f = k0 + s * (k1 + s * (k2 + s * (k3 + s * k4)))
+        if f == 0.0:
+            return s
+        if (f < 0.0) == (f_lo < 0.0):
+            lo = s
         else:
-            if w == 0.0:
-                continue
-            s = c / w
-        if 0.0 < s < 1.0:
-            value = abs(q0 + s * (c + s * (b + s * a)))
-            if value > best:
-                best = value
-    return best
+            hi = s
+        slope = k1 + s * (2.0 * k2 + s * (3.0 * k3 + s * 4.0 * k4))
+        nxt = s - f / slope if slope != 0.0 else lo
+        if not lo < nxt < hi:
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - s) <= 1e-15:
+            return nxt
+        s = nxt
+    return s
+
+
+@kernel(inline="always")
+def _stationary_peak(q0, c, a2, a3, a4, a5, lo, hi, best):
+    """The larger of `best` and |q| at a root of q' inside (lo, hi), q = q0 + c·s + a2·s² + … +
+    a5·s⁵, where q' is monotonic (lo, hi: consecutive roots of q'' or ends of [0, 1])."""
+    if hi <= lo:
+        return best
+    d_lo = c + lo * (2.0 * a2 + lo * (3.0 * a3 + lo * (4.0 * a4 + lo * 5.0 * a5)))
+    d_hi = c + hi * (2.0 * a2 + hi * (3.0 * a3 + hi * (4.0 * a4 + hi * 5.0 * a5)))
+    if not ((d_lo < 0.0 < d_hi) or (d_hi < 0.0 < d_lo)):
+        return best
+    s = _root_between(c, 2.0 * a2, 3.0 * a3, 4.0 * a4, 5.0 * a5, lo, hi, d_lo)
+    value = abs(q0 + s * (c + s * (a2 + s * (a3 + s * (a4 + s * a5)))))
+    return value if value > best else best
+
+
+@kernel(inline="always")
+def _bend_root(e0, e1, e2, e3, lo, hi):
+    """The root inside (lo, hi) of e0 + e1·s + e2·s² + e3·s³ (q''), monotonic there, or −1
+    where it keeps its sign."""
+    if hi <= lo:
+        return -1.0
+    f_lo = e0 + lo * (e1 + lo * (e2 + lo * e3))
+    f_hi = e0 + hi * (e1 + hi * (e2 + hi * e3))
+    if not ((f_lo < 0.0 < f_hi) or (f_hi < 0.0 < f_lo)):
+        return -1.0
+    return _root_between(e0, e1, e2, e3, 0.0, lo, hi, f_lo)
+
+
+@kernel(inline="always")
+def quintic_peak(q0, m0, c0, q1, m1, c1, h, peak):
+    """The larger of `peak` and |q| at the stationary points inside (0, h) of the quintic q(τ)
+    through the values q, rates m and second derivatives c at both ends (one unit per
+    derivative, h in s): error (ω·h)⁶/46080 of a mode's amplitude, against the cubic's
+    (ω·h)⁴/384. The ends themselves are update_peaks' business.
+
+    The stationary points are isolated exactly: the roots of the third derivative (a
+    quadratic) split [0, 1] into pieces where q'' is monotonic; the roots of q'' (one a piece
+    at most) split it into pieces where q' is, each holding one stationary point at most,
+    found by safeguarded Newton steps."""
+    e0, e1 = bend_mismatch(q0, m0, c0, q1, m1, c1, h)
+    if max(abs(q0), abs(q1)) + HERMITE_ARM * h * (abs(m0) + abs(m1)) + QUINTIC_BEND * (abs(e0) + abs(e1)) <= peak:
+        return peak
+    # q(s·h) = q0 + c·s + a2·s² + a3·s³ + a4·s⁴ + a5·s⁵ on s ∈ [0, 1]: the cubic through
+    # (q, m) plus bend_mismatch's terms
+    c = h * m0
+    a2 = 3.0 * (q1 - q0) - h * (2.0 * m0 + m1) + 0.5 * e0
+    a3 = 2.0 * (q0 - q1) + h * (m0 + m1) + 0.5 * (e1 - 3.0 * e0)
+    a4 = 1.5 * e0 - e1
+    a5 = 0.5 * (e1 - e0)
+    # the third derivative fc + fb·s + fa·s²: its roots inside (0, 1), t1 ≤ t2 (1 if none)
+    fa, fb, fc = 60.0 * a5, 24.0 * a4, 6.0 * a3
+    r1 = r2 = 1.0
+    if fa != 0.0:
+        disc = fb * fb - 4.0 * fa * fc
+        if disc > 0.0:
+            w = -0.5 * (fb + math.copysign(math.sqrt(disc), fb))
+            r1 = w / fa
+            r2 = fc / w if w != 0.0 else r1
+    elif fb != 0.0:
+        r1 = -fc / fb
+    r1 = r1 if 0.0 < r1 < 1.0 else 1.0
+    r2 = r2 if 0.0 < r2 < 1.0 else 1.0
+    t1, t2 = min(r1, r2), max(r1, r2)
+    # q'' monotonic on [0, t1], [t1, t2], [t2, 1]: its roots, ascending, split [0, 1] into
+    # the pieces where q' is monotonic
+    best = peak
+    start = 0.0
+    for piece in range(3):
+        lo = 0.0 if piece == 0 else (t1 if piece == 1 else t2)
+        hi = t1 if piece == 0 else (t2 if piece == 1 else 1.0)
+        bend = _bend_root(2.0 * a2, 6.0 * a3, 12.0 * a4, 20.0 * a5, lo, hi)
+        if bend > 0.0:
+            best = _stationary_peak(q0, c, a2, a3, a4, a5, start, bend, best)
+            start = bend
+    return _stationary_peak(q0, c, a2, a3, a4, a5, start, 1.0, best)
 
 
 # columns of peaks_between's per-storey array `between`: the previous exact state's storey
 # deflections (Ã_x, Ã_y, Δθ) and rates, the storey's largest column arms |ξ|, |η| (m) and a
 # lower bound of its columns' running peaks along x, y (m)
-BT_VALUE, BT_RATE, BT_ARM, BT_LOWEST = 0, 3, 6, 8
-BT_COLUMNS = 10
+BT_VALUE, BT_RATE, BT_ARM, BT_LOWEST, BT_BEND = 0, 3, 6, 8, 10
+BT_COLUMNS = 13
+KEPT_ROWS = 6  # peaks_between's `kept`: u, v, a_abs, ȧ_abs, a_rel, ä_abs less its ground part
 
 
 def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) -> tuple[np.ndarray, np.ndarray]:
@@ -125,43 +209,56 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 
 @kernel
-def peaks_between(h, smooth, u, v, a_abs, jerk, n_dof, storey_bottom, storey_top, storey_axes, centre, col_arm,
-                  first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
-    """After update_peaks at an exact state (u, v) with absolute accelerations a_abs and their
-    rates `jerk`: if `smooth`, the step of h s since the previous exact state was itself
-    exact, and the running peaks of the column deflections, storey twists, floor displacements
-    and absolute floor accelerations rise to the largest values of their cubic Hermite
-    interpolants over it; then the state becomes the previous exact state.
+def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bottom, storey_top, storey_axes, centre,
+                  col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
+    """After update_peaks at an exact state (u, v) with relative and absolute accelerations
+    a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
+    and the running peaks of the column deflections, storey twists, floor displacements and
+    absolute floor accelerations rise to the largest values of their quintic Hermite
+    interpolants over it (quintic_peak: through values, rates and second derivatives at both
+    ends); then the state becomes the previous exact state.
 
-    storey_work holds the storey deflections at u (update_peaks has just filled it); kept
-    (4, n_dof + 3) the previous state's u, v, a_abs and jerk; between (n_storeys, BT_COLUMNS) what the BT_
-    columns say; first the storeys' first columns (between_arrays). A storey's columns are
-    looked at only where HERMITE_ARM's bound for the whole storey (its deflection plus its
-    largest arm times its twist) passes the lowest of their peaks: most steps of most storeys
-    are settled by that one comparison."""
+    rates: exact_point's (rates[2]: ȧ, rates[3]: ä less its ground part, rates[5], rates[6]:
+    that part per unit ground-acceleration rate along X, Y); sx, sy: the ground acceleration's
+    rate over the step, m/s³. storey_work holds the storey deflections at u (update_peaks has
+    just filled it); kept (KEPT_ROWS, n_dof + 3) the previous state's u, v, a_abs, ȧ, a_rel and
+    ä less its ground part; between (n_storeys, BT_COLUMNS) what the BT_ columns say; first the
+    storeys' first columns (between_arrays). A storey's columns are looked at only where the
+    bound for the whole storey (its deflection plus its largest arm times its twist) passes the
+    lowest of their peaks: most steps of most storeys are settled by that one comparison."""
     for s in range(storey_top.size):
         rx, ry, rt = storey_deflection(v, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                        centre)  # fmt: skip
+        bx, by, bt = storey_deflection(a_rel, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
+                                       centre)  # fmt: skip
         if smooth:
-            peak_rot[s] = hermite_peak(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], storey_work[s, 2], rt, h,
-                                       peak_rot[s])  # fmt: skip
+            peak_rot[s] = quintic_peak(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], between[s, BT_BEND + 2],
+                                       storey_work[s, 2], rt, bt, h, peak_rot[s])  # fmt: skip
             twist = max(abs(between[s, BT_VALUE + 2]), abs(storey_work[s, 2]))
             twist_rate = abs(between[s, BT_RATE + 2]) + abs(rt)
+            t0, t1 = bend_mismatch(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], between[s, BT_BEND + 2],
+                                   storey_work[s, 2], rt, bt, h)  # fmt: skip
+            twist_bend = abs(t0) + abs(t1)
             for axis in range(2):
                 r1 = rx if axis == 0 else ry
+                b1 = bx if axis == 0 else by
                 arm = between[s, BT_ARM + axis]
                 q0 = between[s, BT_VALUE + axis]
                 m0 = between[s, BT_RATE + axis]
+                c0 = between[s, BT_BEND + axis]
                 q1 = storey_work[s, axis]
+                e0, e1 = bend_mismatch(q0, m0, c0, q1, r1, b1, h)
                 reach = (max(abs(q0), abs(q1)) + arm * twist
-                         + HERMITE_ARM * h * (abs(m0) + abs(r1) + arm * twist_rate))  # fmt: skip
+                         + HERMITE_ARM * h * (abs(m0) + abs(r1) + arm * twist_rate)
+                         + QUINTIC_BEND * (abs(e0) + abs(e1) + arm * twist_bend))  # fmt: skip
                 if reach <= between[s, BT_LOWEST + axis]:
                     continue
                 lowest = np.inf
                 for k in range(first[s], first[s + 1]):
                     a = col_arm[k, axis]
-                    peak = hermite_peak(q0 + between[s, BT_VALUE + 2] * a, m0 + between[s, BT_RATE + 2] * a,
-                                        q1 + storey_work[s, 2] * a, r1 + rt * a, h, peak_col[k, axis])  # fmt: skip
+                    peak = quintic_peak(q0 + between[s, BT_VALUE + 2] * a, m0 + between[s, BT_RATE + 2] * a,
+                                        c0 + between[s, BT_BEND + 2] * a, q1 + storey_work[s, 2] * a, r1 + rt * a,
+                                        b1 + bt * a, h, peak_col[k, axis])  # fmt: skip
                     peak_col[k, axis] = peak
                     lowest = min(lowest, peak)
                 between[s, BT_LOWEST + axis] = lowest
@@ -170,12 +267,19 @@ def peaks_between(h, smooth, u, v, a_abs, jerk, n_dof, storey_bottom, storey_top
         between[s, BT_RATE] = rx
         between[s, BT_RATE + 1] = ry
         between[s, BT_RATE + 2] = rt
+        between[s, BT_BEND] = bx
+        between[s, BT_BEND + 1] = by
+        between[s, BT_BEND + 2] = bt
     if smooth:
         for d in range(n_dof):
-            peak_disp[d] = hermite_peak(kept[0, d], kept[1, d], u[d], v[d], h, peak_disp[d])
-            peak_acc[d] = hermite_peak(kept[2, d], kept[3, d], a_abs[d], jerk[d], h, peak_acc[d])
+            peak_disp[d] = quintic_peak(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h, peak_disp[d])
+            ground_part = sx * rates[5, d] + sy * rates[6, d]
+            peak_acc[d] = quintic_peak(kept[2, d], kept[3, d], kept[5, d] + ground_part, a_abs[d], rates[2, d],
+                                       rates[3, d] + ground_part, h, peak_acc[d])  # fmt: skip
     for d in range(n_dof):
         kept[0, d] = u[d]
         kept[1, d] = v[d]
         kept[2, d] = a_abs[d]
-        kept[3, d] = jerk[d]
+        kept[3, d] = rates[2, d]
+        kept[4, d] = a_rel[d]
+        kept[5, d] = rates[3, d]
