@@ -57,14 +57,15 @@ before it was first order, 1.5e-3 at 0.0125."""
 HYBRID_SAMPLING = 0.4
 """Exact substeps satisfy ω_max·h ≤ HYBRID_SAMPLING where no member yields (free vibration
 takes two at once where it can, solver/hybrid.py). The peaks between exact states come from
-the quintic through their values, rates and second derivatives (solver/peaks.py: error ≤
-(ω·H)⁶/46080 of a mode's share over a span H), so h bounds their accuracy only weakly: 5.7e-6
-of the highest mode's share over the double substeps (ω·H ≤ 0.8), where the cubic used before
-at 0.2 allowed 6.7e-5. The longer h also sets the horizon of the contact checks and where the
-CDM starts and stops; the bench (docs/bench.md, "The substeps") finds 0.4 faster than 0.2 in
-every scene without yielding members at no worse error. Beyond 0.4 the bench's scenes do not
-show the peaks' error (their highest modes carry little), but a structure whose highest mode
-carries its peak would: 3.6e-4 of it at 0.8."""
+the quintic through their values and first two rates (solver/peaks.py: error ≤
+(ω·H)⁶/46080 of a mode's share over a span H): 5.7e-6 of the highest mode's share over the
+double substeps (ω·H ≤ 0.8), where the cubic used before at 0.2 allowed 6.7e-5. The longer
+h also sets the horizon of the contact checks and where the CDM starts and stops. The bench
+(docs/bench.md, "Is the default on the front?") finds 0.4 11–38 % faster than 0.2 in every
+scene without yielding members, at errors within a factor 2 of each other either way. 0.8 is
+faster still there and its errors are as small, because those scenes' highest modes carry
+little of their peaks; but where the highest mode carries a peak the quintic allows 3.6e-4
+of it at 0.8, and that is what this bound keeps to 5.7e-6."""
 
 YIELD_SAMPLING = 0.2
 """ω_max·h with yielding members: their yield check looks h ahead, and a member that may
