@@ -83,16 +83,20 @@ from .contact_geometry import (
 
 # pair state columns, of the episode's last step: ST_FX, ST_FY, the force on B, N; ST_NX, ST_NY, the
 # normal; ST_DEEPEST, the overlap's largest depth, m; ST_REST…+6, moments of the part of the
-# overlap not expected to part within the next step (contact_geometry.shallow_moments: rest)
+# overlap not expected to part within the next step (contact_geometry.shallow_moments: rest);
+# ST_FN1, ST_FN2: the normal force one and two steps back, N (0 before the episode)
 ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT, ST_FX, ST_FY, ST_NX, ST_NY, ST_DEEPEST, ST_REST = range(10)
-N_STATE = ST_REST + 6
+ST_FN1, ST_FN2 = ST_REST + 6, ST_REST + 7
+N_STATE = ST_REST + 8
 FRAME_VERTICES = RESULT_SIZE
 """Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
 # per-pair current values (also what is stored at the output interval)
 NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
 NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
-# impact log columns; EV_X, EV_Y, EV_T_PEAK, EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A
-# into B) are taken at the step of the episode's peak normal force; EV_PEAK_LENGTH: the longest
+# impact log columns; EV_PEAK_FN: the episode's peak normal force, the crest of the parabola
+# through the three steps around its largest sample (crest); EV_T_PEAK, EV_X, EV_Y,
+# EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A into B) are taken at the step of the
+# largest sample; EV_PEAK_LENGTH: the longest
 # contact line of the episode, m (its normal stiffness k_N·length: the automatic contact step
 # is checked against it, assembly/contact.py: observed_contact_omega)
 EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
@@ -345,6 +349,19 @@ def _kinetic_shortfall(excess_before, excess_now, f_before, f_n, mu_s, mu_k):
     return (0.5 - give) * (mu_s * (f_n + give * fall) - mu_k * (f_n + fall * (0.5 + give) / 2.0))
 
 
+@kernel(inline="always")
+def crest(f0, f1, f2):
+    """The top of the parabola through three values a step apart, f1 ≥ f0 and f1 ≥ f2 (a
+    sampled crest; it lies within half a step of the middle one). For a force smooth about
+    its crest the error is third order in the step, where the largest sample itself misses by
+    up to (ω·Δt)²/8 of the crest, as its place in the step falls."""
+    curvature = 0.5 * (f0 + f2) - f1
+    if curvature >= 0.0:
+        return f1
+    slope = 0.5 * (f2 - f0)
+    return f1 - 0.25 * slope * slope / curvature
+
+
 @kernel
 def contact_forces(
     n, dt, u, v_half, v_est, geometry, params, state, now, events, n_events, forces, broad, poly_a, poly_b, clip,
@@ -524,6 +541,8 @@ def contact_forces(
         # impact log
         if state[p, ST_ACTIVE] == 0:
             state[p, ST_ACTIVE] = 1.0
+            state[p, ST_FN1] = 0.0
+            state[p, ST_FN2] = 0.0
             state[p, ST_EVENT] = n_events[0]
             if n_events[0] < events.shape[0]:
                 row = n_events[0]
@@ -545,6 +564,9 @@ def contact_forces(
                 events[e, EV_FT_PEAK] = f_t
                 events[e, EV_NX] = nx
                 events[e, EV_NY] = ny
+            f_last = state[p, ST_FN1]
+            if state[p, ST_FN2] > 0.0 and state[p, ST_FN2] <= f_last >= f_n:  # the last step was a crest
+                events[e, EV_PEAK_FN] = max(events[e, EV_PEAK_FN], crest(state[p, ST_FN2], f_last, f_n))
             if area > events[e, EV_PEAK_AREA]:
                 events[e, EV_PEAK_AREA] = area
             if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:
@@ -553,6 +575,8 @@ def contact_forces(
                 events[e, EV_PEAK_LENGTH] = frame[LENGTH]
             if slipping:
                 events[e, EV_SLID] = 1.0
+        state[p, ST_FN2] = state[p, ST_FN1]
+        state[p, ST_FN1] = f_n
     n_live[0] = in_contact
     return in_contact
 
