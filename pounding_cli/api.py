@@ -87,15 +87,15 @@ def scene_grid(
     analysis: Analysis, source: str, system: System, contact: ContactArrays, ground: GroundMotion,
     dt_fraction: float | None = None, sampling_scale: float = 1.0, dt_scale: float = 1.0,
 ) -> tuple[TimeGrid, Callable[[float], TimeGrid] | None]:
-    """The time grid of an analysis (timestep.time_grid; dt_fraction, sampling_scale and dt_scale as
-    there, for `pound bench`), its automatic contact step following the likely contacts
+    """The time grid of an analysis (timestep.time_grid; dt_fraction, sampling_scale and
+    dt_scale as there, for `pound bench`), its automatic contact step following the likely contacts
     (contact.omega_step); and, where that step is automatic and contact is possible, the
     function that makes the grid for another contact ω (rad/s), with which execute repeats a
     run that met a stiffer contact (None otherwise)."""
     def regrid(omega_step: float) -> TimeGrid:
         return time_grid(
-            analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction, sampling_scale,
-            yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
+            analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction,
+            sampling_scale, yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
         )  # fmt: skip
 
     automatic = analysis.dt == "auto" and dt_fraction is None and contact.n_pairs > 0

@@ -93,8 +93,8 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
                 peak_acc, kept, between, first, rates):  # fmt: skip
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
-    accounted for (trapezoidal; over an exact step, end-corrected with the powers' rates,
-    ∫p = h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁), fourth order), the peaks. When that last state was the previous exact point
+    accounted for (trapezoidal; over an exact step, end-corrected with the powers' rates to
+    sixth order, below), the peaks. When that last state was the previous exact point
     (an open account: no hand-over since), the peaks include those of the step between
     (peaks_between, from what kept and between hold of that state; first: the storeys' first
     columns); for the accelerations' it needs their first two rates: ȧ = −M⁻¹(K·v + C·a_rel)
@@ -226,7 +226,8 @@ def hybrid_advance(
     # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
     # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
     # first: what peaks_between keeps of the last exact state, and the storeys' first columns;
-    # rates: exact_point's work (N_RATES, n_dof + 3; integrate.ground_rate_response); phi2, g02, g12: Φ, Γ₀, Γ₁ of a double substep 2h
+    # rates: exact_point's work (N_RATES, n_dof + 3; integrate.ground_rate_response); phi2, g02,
+    # g12: Φ, Γ₀, Γ₁ of a double substep 2h
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
     rates, phi2, g02, g12,
     # everything cdm.advance takes after its first five arguments

@@ -88,9 +88,15 @@ def bend_mismatch(q0, m0, c0, q1, m1, c1, h):
 
 
 @kernel(inline="always")
-def _root_between(k0, k1, k2, k3, k4, lo, hi, f_lo):
-    """The root in [lo, hi] of k0 + k1·s + … + k4·s⁴, monotonic there and of opposite signs at
-    the ends (f_lo at lo): Newton's steps, bisection where one would leave the bracket."""
+def _root_in(k0, k1, k2, k3, k4, lo, hi):
+    """The root inside (lo, hi) of k0 + k1·s + … + k4·s⁴, monotonic there, or −1 where it
+    keeps its sign: Newton's steps, bisection where one would leave the bracket."""
+    if hi <= lo:
+        return -1.0
+    f_lo = k0 + lo * (k1 + lo * (k2 + lo * (k3 + lo * k4)))
+    f_hi = k0 + hi * (k1 + hi * (k2 + hi * (k3 + hi * k4)))
+    if not ((f_lo < 0.0 < f_hi) or (f_hi < 0.0 < f_lo)):
+        return -1.0
     s = 0.5 * (lo + hi)
     for _ in range(60):
         f = k0 + s * (k1 + s * (k2 + s * (k3 + s * k4)))
@@ -114,28 +120,11 @@ def _root_between(k0, k1, k2, k3, k4, lo, hi, f_lo):
 def _stationary_peak(q0, c, a2, a3, a4, a5, lo, hi, best):
     """The larger of `best` and |q| at a root of q' inside (lo, hi), q = q0 + c·s + a2·s² + … +
     a5·s⁵, where q' is monotonic (lo, hi: consecutive roots of q'' or ends of [0, 1])."""
-    if hi <= lo:
+    s = _root_in(c, 2.0 * a2, 3.0 * a3, 4.0 * a4, 5.0 * a5, lo, hi)
+    if s < 0.0:
         return best
-    d_lo = c + lo * (2.0 * a2 + lo * (3.0 * a3 + lo * (4.0 * a4 + lo * 5.0 * a5)))
-    d_hi = c + hi * (2.0 * a2 + hi * (3.0 * a3 + hi * (4.0 * a4 + hi * 5.0 * a5)))
-    if not ((d_lo < 0.0 < d_hi) or (d_hi < 0.0 < d_lo)):
-        return best
-    s = _root_between(c, 2.0 * a2, 3.0 * a3, 4.0 * a4, 5.0 * a5, lo, hi, d_lo)
     value = abs(q0 + s * (c + s * (a2 + s * (a3 + s * (a4 + s * a5)))))
     return value if value > best else best
-
-
-@kernel(inline="always")
-def _bend_root(e0, e1, e2, e3, lo, hi):
-    """The root inside (lo, hi) of e0 + e1·s + e2·s² + e3·s³ (q''), monotonic there, or −1
-    where it keeps its sign."""
-    if hi <= lo:
-        return -1.0
-    f_lo = e0 + lo * (e1 + lo * (e2 + lo * e3))
-    f_hi = e0 + hi * (e1 + hi * (e2 + hi * e3))
-    if not ((f_lo < 0.0 < f_hi) or (f_hi < 0.0 < f_lo)):
-        return -1.0
-    return _root_between(e0, e1, e2, e3, 0.0, lo, hi, f_lo)
 
 
 @kernel(inline="always")
@@ -180,7 +169,7 @@ def quintic_peak(q0, m0, c0, q1, m1, c1, h, peak):
     for piece in range(3):
         lo = 0.0 if piece == 0 else (t1 if piece == 1 else t2)
         hi = t1 if piece == 0 else (t2 if piece == 1 else 1.0)
-        bend = _bend_root(2.0 * a2, 6.0 * a3, 12.0 * a4, 20.0 * a5, lo, hi)
+        bend = _root_in(2.0 * a2, 6.0 * a3, 12.0 * a4, 20.0 * a5, 0.0, lo, hi)  # of q''
         if bend > 0.0:
             best = _stationary_peak(q0, c, a2, a3, a4, a5, start, bend, best)
             start = bend
