@@ -54,7 +54,7 @@ from .broad_phase import BR_N_LIVE
 from .contact import contact_possible_within, contact_ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
-from .peaks import peaks_between, update_peaks
+from .peaks import peaks_between, settle_crests, update_peaks
 
 # exact (substeps of h); CDM at the contact step; CDM at the yielding step; exact in finer steps
 # toward a contact that may begin within the substep
@@ -90,7 +90,7 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bott
 @kernel
 def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground, ground_dt,
                 g, acc, storey_axes, centre, col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp,
-                peak_acc, kept, between, first, rates):  # fmt: skip
+                peak_acc, kept, between, first, rates, crest_work):  # fmt: skip
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
     accounted for (trapezoidal; over an exact step, end-corrected with the powers' rates to
@@ -102,7 +102,11 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     ä = −M⁻¹(K·a_rel + C·ȧ_rel) with ȧ_rel = ȧ − ȧ_g, whose part without the ground's rate ȧ_g
     is left in rates[3] (rates[0], rates[1], rates[4]: K·a_rel, C·a_rel, C·ȧ; rates[5],
     rates[6] hold M⁻¹·C·e_X and M⁻¹·C·e_Y, e the floors' unit translations, which carry the
-    rest: integrate.ground_rate_response). Returns the ground acceleration (X, Y) at t."""
+    rest: integrate.ground_rate_response). The crests peaks_between lists are valued
+    exactly (settle_crests) from the motion's derivatives at t (state_series); crest_work =
+    (floor_ratio, crests, series, series_k, coef): the share of a running peak a quintic crest
+    must pass to be listed, and the work arrays of both. Returns the ground acceleration (X, Y)
+    at t."""
     smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
     agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
                            ground_dt, g)  # fmt: skip
@@ -167,9 +171,42 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     acc[ACC_D3_DAMPING + 2] = d3y
     update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
                  peak_rot, peak_disp, peak_acc)  # fmt: skip
-    peaks_between(gap, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, bottom, top, storey_axes, centre, col_arm,
-                  first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+    floor_ratio, crests, series, series_k, coef = crest_work
+    n_crests = peaks_between(gap, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, bottom, top, storey_axes, centre,
+                             col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc,
+                             floor_ratio, crests)  # fmt: skip
+    if n_crests > 0:
+        state_series(u, v, a_rel, sx, sy, mass, damping, storey_k, bottom, top, series, series_k)
+        settle_crests(gap, crests, n_crests, series, agx, agy, sx, sy, bottom, top, storey_axes, centre, col_storey,
+                      col_arm, coef, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
     return agx, agy
+
+
+@kernel
+def state_series(u, v, a_rel, sx, sy, mass, damping, storey_k, bottom, top, series, series_k):
+    """The exact motion's derivatives at a state reached by exact propagation: series[j] =
+    u⁽ʲ⁾ for j = 0 … R − 1 (R = series.shape[0]), from u, v, a_rel and the ground acceleration's
+    rate (sx, sy) m/s³ over the step: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾) − ι·a_g⁽ʲ⁾ for j ≥ 1,
+    where a_g⁽ʲ⁾ is the rate for j = 1 and 0 after (a_g is linear within the step; the members'
+    plastic correction is constant and drops out). series_k: work (2, n_dof + 3)."""
+    n_dof = mass.size
+    for d in range(n_dof):
+        series[0, d] = u[d]
+        series[1, d] = v[d]
+        series[2, d] = a_rel[d]
+    storey_matvec(series[1], storey_k, bottom, top, series_k[1])
+    for j in range(1, series.shape[0] - 2):
+        # series_k[(j + 1) % 2] = K·u⁽ʲ⁺¹⁾; series_k[j % 2] holds K·u⁽ʲ⁾ from the last order
+        storey_matvec(series[j + 1], storey_k, bottom, top, series_k[(j + 1) % 2])
+        damping_force(series[j + 1], series_k[(j + 1) % 2], mass, damping, n_dof, series[j + 2])
+        for d in range(n_dof):
+            series[j + 2, d] = -(series_k[j % 2, d] + series[j + 2, d]) / mass[d]
+        for d in range(n_dof, series.shape[1]):  # the ground's row (damping links may write it)
+            series[j + 2, d] = 0.0
+        if j == 1:
+            for d in range(0, n_dof, 3):
+                series[3, d] -= sx
+                series[3, d + 1] -= sy
 
 
 @kernel(fastmath=REASSOCIATE)
@@ -227,9 +264,10 @@ def hybrid_advance(
     # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
     # first: what peaks_between keeps of the last exact state, and the storeys' first columns;
     # rates: exact_point's work (N_RATES, n_dof + 3; integrate.ground_rate_response); phi2, g02,
-    # g12: Φ, Γ₀, Γ₁ of a double substep 2h
+    # g12: Φ, Γ₀, Γ₁ of a double substep 2h (none, for no building: no double substeps, as
+    # their ω_max·2h would pass peaks.CREST_SPAN); crest_work: exact_point's
     phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
-    rates, phi2, g02, g12,
+    rates, phi2, g02, g12, crest_work,
     # everything cdm.advance takes after its first five arguments
     mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -284,7 +322,7 @@ def hybrid_advance(
             agx, agy = exact_point(t, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                                    col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                                   between, first, rates)  # fmt: skip
+                                   between, first, rates, crest_work)  # fmt: skip
             e_plastic = 0.0
             if has_members:
                 member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
@@ -298,9 +336,10 @@ def hybrid_advance(
                     return status, k
             if k == k_end:
                 return STATUS_OK, k + 1
-            # two substeps at once where no output sample, record sample, call's end or the
-            # analysis' end falls inside them, and nothing can touch or yield within 2·2h
-            double = (k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
+            # two substeps at once where their span allows it (phi2), no output sample, record
+            # sample, call's end or the analysis' end falls inside them, and nothing can touch or
+            # yield within 2·2h
+            double = (phi2.shape[0] > 0 and k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
                       and yielded == 0
                       and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
                                                                      geometry, params, broad))
@@ -410,7 +449,7 @@ def hybrid_advance(
                 exact_point(t + pos * h_fine, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping,
                             storey_k, storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                             col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                            between, first, rates)  # fmt: skip
+                            between, first, rates, crest_work)  # fmt: skip
                 if level > 1 and pos % (2 * size) == 0:
                     level -= 1  # try the coarser step: the next pass checks it
                 continue
@@ -451,7 +490,7 @@ def hybrid_advance(
             exact_point(t_pos, 0.0, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                         storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre, col_storey,
                         col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept, between,
-                        first, rates)  # fmt: skip
+                        first, rates, crest_work)  # fmt: skip
     return STATUS_OK, k_stop
 
 
