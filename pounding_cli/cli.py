@@ -800,9 +800,10 @@ def _print_analysis(a: dict[str, Any], buildings: list[dict[str, Any]]) -> None:
     out.print(f"analysis: {a['duration_s']:g} s, output every {a['output_interval_s']:g} s", markup=False)
     out.print(f"  Δt = {a['dt_s']:.4g} s: {why}", markup=False)
     if a["integrator"] == "hybrid":
+        doubled = ", two at once between output and record samples" if a["steps"] < a["substeps"] else ""
         out.print(
             f"  integrator: hybrid — {a['steps']:,} exact steps while no contact is possible ({a['substeps']:,} "
-            f"substeps of {a['substep_s']:.4g} s, two at once between output and record samples); the CDM at Δt "
+            f"substeps of {a['substep_s']:.4g} s{doubled}); the CDM at Δt "
             f"where one is ({a['cdm_steps_per_substep']:,} steps per substep; "
             f"{a['steps_of_dt']:,} steps of Δt would span the whole {a['duration_s']:g} s)",
             markup=False,

@@ -67,10 +67,10 @@ def test_validate_prints_periods_and_time_step():
     assert dt_line == ("  Δt = 2.604e-06 s: auto, 0.00625 × 2/ω_contact — the contact limit governs (0.0004275 s; "
                        "the structure's: 0.01219 s, building right), shortened to divide the substep")  # fmt: skip
     (hybrid,) = [ln for ln in lines if ln.startswith("  integrator: ")]
-    # 17,000 substeps of 1/5 of the 0.01 s record (and output) interval (ω_max·h ≤ 0.4), taken
-    # as 2 double and 1 single step per interval where nothing can touch: 3 × 3,400 steps
-    assert a["substeps"] == 17000 and a["steps"] == 10200
-    assert f"hybrid — {a['steps']:,} exact steps while no contact is possible (17,000 substeps of 0.002 s" in hybrid
+    # 3,400 substeps of the whole 0.01 s record (and output) interval (ω_max·h = 1.64 ≤ 4), one
+    # exact step each where nothing can touch: no two fit between samples
+    assert a["substeps"] == a["steps"] == 3400
+    assert f"hybrid — {a['steps']:,} exact steps while no contact is possible (3,400 substeps of 0.01 s);" in hybrid
     assert f"{a['steps_of_dt']:,} steps of Δt would span the whole 34 s" in hybrid
     assert any(ln.startswith("excitation: ") and ln.endswith("PGA X 0.526 g, Y 0.471 g") for ln in lines)
     assert max(map(len, lines)) > 80  # long lines kept whole

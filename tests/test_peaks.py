@@ -8,76 +8,135 @@ import pytest
 
 import pounding_cli as pound
 from pounding_cli.assembly import assemble, ground_motion
-from pounding_cli.solver.peaks import quintic_peak
+from pounding_cli.solver.peaks import CREST_DISPLACEMENT, CREST_SPAN, quintic_crests
 
 from test_time_history import _eccentric_case, _exact_peaks
 
 
-@pytest.mark.parametrize("omega_h", [0.2, 0.8, 1.6])
-def test_crest_of_a_sine_within_the_quintic_bound(omega_h):
+def _crests(q0, m0, c0, q1, m1, c1, h, floor):
+    """quintic_crests' list: the s = τ/h of the stationary points it finds above floor."""
+    crests = np.zeros((4, 3))
+    n = quintic_crests(q0, m0, c0, q1, m1, c1, h, floor, CREST_DISPLACEMENT, 7, crests, 0)
+    assert np.all(crests[:n, :2] == [CREST_DISPLACEMENT, 7])
+    return crests[:n, 2]
+
+
+@pytest.mark.parametrize("omega_h", [0.8, 1.6, 4.0])
+def test_quintic_locates_the_crest_of_a_sine(omega_h):
     """q = A·cos(ω(τ − τ_c)) with its crest at τ_c inside the step, given q, q̇ and q̈ at both
-    ends: the interpolant's maximum is within h⁶·max|q⁽⁶⁾|/46080 = (ω·h)⁶/46080·A of A (the
-    quintic Hermite error bound; 1.4e-3 of A at ω·h = 1.6, twice the default double substep),
-    whereas the larger end value misses by up to 1 − cos(ω·h/2) ≈ (ω·h)²/8 and the cubic
-    through q, q̇ alone by up to (ω·h)⁴/384."""
+    ends: the quintic's stationary points are within (ω·h)⁵/3840 of a radian of the crest and
+    of a trough a half period off, where ω·h > π puts one inside the step (its
+    derivative's Hermite error over the curvature Aω²), well inside Newton's reach (a quarter
+    period) up to the longest step the peaks allow (ω·h = CREST_SPAN = 4: 0.27 rad)."""
     amplitude, omega = 0.03, 20.0
     h = omega_h / omega
-    worst_end = worst = 0.0
     for fraction in np.linspace(0.02, 0.98, 49):
         crest = fraction * h
         q0, q1 = (amplitude * np.cos(omega * (t - crest)) for t in (0.0, h))
         m0, m1 = (-amplitude * omega * np.sin(omega * (t - crest)) for t in (0.0, h))
         c0, c1 = -(omega**2) * q0, -(omega**2) * q1
-        peak = quintic_peak(q0, m0, c0, q1, m1, c1, h, 0.0)
-        assert abs(peak - amplitude) <= omega_h**6 / 46080 * amplitude * (1 + 1e-9), fraction
-        worst = max(worst, abs(peak - amplitude))
-        worst_end = max(worst_end, amplitude - max(abs(q0), abs(q1)))
-    assert worst_end > 0.9 * (1 - np.cos(omega_h / 2)) * amplitude  # what sampling the ends alone would miss
-    assert worst < 0.05 * omega_h**4 / 384 * amplitude  # far inside the cubic's bound
+        found = _crests(q0, m0, c0, q1, m1, c1, h, 0.0)
+        exact = fraction + np.arange(-2, 3) * np.pi / omega_h  # the crest, and the troughs a half period off
+        exact = exact[(exact > 0.0) & (exact < 1.0)]
+        assert len(found) == len(exact), fraction
+        assert np.abs(found - exact).max() * omega_h <= omega_h**5 / 3840, fraction
+    assert omega_h <= CREST_SPAN
 
 
 def test_quintic_interpolated_exactly():
     """A quintic is its own Hermite interpolant: its interior extrema, found by numpy's roots
-    of q', are returned to rounding (q = s(1 − s)(s − 0.35)(s² + 0.1) + 0.001 on s = τ/h,
-    h = 0.5 s: stationary at s = 0.20 and 0.82, |q| = 0.0546 at the latter, 0.001 at the ends)."""
+    of q', are listed to rounding (q = s(1 − s)(s − 0.35)(s² + 0.1) + 0.001 on s = τ/h,
+    h = 0.5 s: stationary at s = 0.20 and 0.82, |q| = 0.0546 at the latter, 0.001 at the ends);
+    a floor between their values lists the higher alone."""
     h = 0.5
     q = np.poly1d([-1.0, 1.0, 0.0]) * np.poly1d([1.0, -0.35]) * np.poly1d([1.0, 0.0, 0.1]) + 0.001
     dq, ddq = q.deriv(), q.deriv(2)
-    stationary = [s.real for s in dq.r if abs(s.imag) < 1e-12 and 0 < s.real < 1]
+    stationary = sorted(s.real for s in dq.r if abs(s.imag) < 1e-12 and 0 < s.real < 1)
     assert len(stationary) == 2
-    expected = max(abs(q(s)) for s in stationary)
-    assert expected > max(abs(q(0.0)), abs(q(1.0)))
-    got = quintic_peak(q(0.0), dq(0.0) / h, ddq(0.0) / h**2, q(1.0), dq(1.0) / h, ddq(1.0) / h**2, h, 0.0)
-    assert got == pytest.approx(expected, rel=1e-13)
+    ends = (q(0.0), dq(0.0) / h, ddq(0.0) / h**2, q(1.0), dq(1.0) / h, ddq(1.0) / h**2, h)
+    np.testing.assert_allclose(_crests(*ends, 0.0), stationary, rtol=1e-12)
+    lower, higher = sorted(abs(q(s)) for s in stationary)
+    assert higher > max(abs(q(0.0)), abs(q(1.0)))
+    np.testing.assert_allclose(_crests(*ends, 0.5 * (lower + higher)), [stationary[1]], rtol=1e-12)
 
 
-def test_running_peak_kept_when_the_step_cannot_exceed_it():
+def test_nothing_listed_when_the_step_cannot_reach_the_floor():
     """The bound max(|q₀|, |q₁|) + 4/27·h·(|q̇₀| + |q̇₁|) + 0.01728·(|E₀| + |E₁|) below the
-    running peak (E: the second derivatives' mismatch with the cubic's): returned as is; a
-    monotonic step (no interior stationary point) never lowers or raises it."""
-    assert quintic_peak(0.1, 1.0, 0.0, 0.2, 1.0, 0.0, 0.01, 0.5) == 0.5
-    assert quintic_peak(0.1, 10.0, 0.0, 0.2, 10.0, 0.0, 0.01, 0.15) == 0.15
-    assert quintic_peak(0.1, 10.0, 50.0, 0.2, 10.0, -50.0, 0.01, 0.15) == 0.15
+    floor (E: the second derivatives' mismatch with the cubic's): nothing listed; a monotonic
+    step (no interior stationary point) lists nothing either."""
+    assert len(_crests(0.1, 1.0, 0.0, 0.2, 1.0, 0.0, 0.01, 0.5)) == 0
+    assert len(_crests(0.1, 10.0, 0.0, 0.2, 10.0, 0.0, 0.01, 0.15)) == 0
+    assert len(_crests(0.1, 10.0, 50.0, 0.2, 10.0, -50.0, 0.01, 0.15)) == 0
+
+
+@pytest.mark.parametrize("omega_h", [1.0, 1.64, 2.5, 3.9])
+def test_peaks_between_exact_states_are_exact_at_any_span(omega_h):
+    """A one-storey symmetric building in free vibration along x (initial velocity v₀, no
+    ground motion) is a damped oscillator: u = v₀/ω_d·e^(−ζωt)·sin(ω_d·t), closed form. The
+    hybrid propagates it exactly in steps of ω·h = 1, 1.64 (the paper's scenes), 2.5 and 3.9
+    (an output at every step: none doubled), where the larger end value misses the crest by up to 1 − cos(ω·h/2) of it (62 %
+    at 3.9) and the quintic alone by up to (ω·h)⁶/46080 (7.6 %): the peak displacement and the
+    peak absolute acceleration −(ω²·u + 2ζω·v) agree with the closed form's maxima (by
+    scipy's bounded search on it) to 1e-12, the Taylor series' truncation and rounding."""
+    from scipy.optimize import minimize_scalar
+
+    from pounding_cli.assembly import assemble
+    from pounding_cli.solver import simulate
+    from pounding_cli.solver.integrate import damping_blocks, stiffness_blocks
+    from conftest import load_doc, model_doc, square_building
+
+    system = assemble(load_doc(model_doc(square_building(storeys=1))))
+    m, k, c = system.mass[0], stiffness_blocks(system)[0][0, 0], damping_blocks(system)[0][0, 0]
+    assert np.allclose(stiffness_blocks(system)[0][0, 1:], 0.0)  # x is a mode of its own
+    omega, zeta = np.sqrt(k / m), c / (2.0 * np.sqrt(k * m))
+    omega_d = omega * np.sqrt(1.0 - zeta**2)
+    v0 = 0.3
+    h = omega_h / omega
+    sub, n_sub = 4, int(np.ceil(4 * np.pi / omega / h))  # two periods
+    response = simulate(system, np.zeros((n_sub + 1, 2)), h, h / sub, sub, n_sub * sub,
+                        initial_velocity=np.array([v0, 0.0, 0.0]), substep=sub)  # fmt: skip
+    assert response.integrator == "hybrid" and response.cdm_steps == 0
+    assert response.exact_substeps == n_sub  # one span each: an output sample ends every substep
+
+    def u(t):
+        return v0 / omega_d * np.exp(-zeta * omega * t) * np.sin(omega_d * t)
+
+    def v(t):
+        return v0 * np.exp(-zeta * omega * t) * (np.cos(omega_d * t) - zeta * omega / omega_d * np.sin(omega_d * t))
+
+    def a(t):
+        return -(omega**2 * u(t) + 2.0 * zeta * omega * v(t))
+
+    span = n_sub * h
+    for f, got in ((u, response.peak_displacement[0]), (a, response.peak_acceleration[0])):
+        grid = np.linspace(0.0, span, 20001)
+        i = int(np.argmax(np.abs(f(grid))))
+        best = minimize_scalar(lambda t: -abs(f(t)), bounds=(grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]),
+                               method="bounded", options={"xatol": 1e-15})  # fmt: skip
+        exact = max(-best.fun, abs(f(grid[i])))
+        ends = np.abs(f(np.arange(n_sub + 1) * h)).max()
+        assert (exact - ends) / exact > 1e-3 * omega_h**2  # the crests fall between the exact states
+        assert got == pytest.approx(exact, rel=1e-12)
 
 
 def test_hybrid_peaks_match_the_exact_solution_sampled_finely():
-    """With the interpolated peaks, every significant peak interstorey deflection (x, y, θ) of
-    the eccentric 4-storey building under both components is within 1e-6 of the exact
+    """With the peaks between exact states, every significant peak interstorey deflection (x, y,
+    θ) of the eccentric 4-storey building under both components is within 4e-7 of the exact
     (matrix-exponential) solution sampled every 0.05 ms, where the exact samples' own error is
-    (ω₁·0.05 ms)²/8 ≈ 5e-8. The hybrid's substeps are 3.3 ms (ω_max·h = 0.33), taken two at
-    once here (no contact): sampled at the substeps alone, the peaks were 3.6e-4 off at 2 ms;
-    the quintic's bound over 6.7 ms is (ω·2h)⁶/46080 = 1.9e-6 of the highest mode's share of a
-    peak (the cubic through values and rates alone: 5.1e-4), and the peaks are the lower
-    modes'. Measured 1.7e-7 at ω_max·h = 0.1, 0.2, 0.4 and 0.8 alike: the exact samples' own
-    error (the cubic gave 5.3e-7 at 0.2)."""
+    (ω₁·0.05 ms)²/8 ≈ 5e-8. The hybrid's substeps are the whole 10 ms record interval here
+    (ω_max·h = 0.99, no contact): sampled at the substeps alone, the peaks were 3.6e-4 off at
+    2 ms; the quintic alone would allow (ω·h)⁶/46080 = 2.0e-5 of the highest mode's share, and
+    the exact crests (settle_crests) remove even that. Measured 1.7e-7: the exact samples' own
+    error, as with the quintic alone at ω_max·h = 0.1 … 0.8 before."""
     loaded = _eccentric_case("hybrid")
     result = pound.run_model(loaded)
-    assert result.diagnostics["cdm_steps"] == 0 and result.diagnostics["substep"] == pytest.approx(1 / 300)
+    assert result.diagnostics["cdm_steps"] == 0 and result.diagnostics["substep"] == pytest.approx(0.01)
     exact, _ = _exact_peaks(assemble(loaded).buildings[0], ground_motion(loaded), substeps=200)
     got = result.buildings["b"].interstorey_deflection
     for k, name in enumerate(("x", "y", "θ")):
         significant = exact[:, :, k] > 1e-3 * exact[:, :, k].max()
         rel = np.abs(got[:, :, k] - exact[:, :, k])[significant] / exact[:, :, k][significant]
+        print(f"{name}: worst relative peak error {rel.max():.2e}")
         assert rel.max() < 4e-7, f"{name}: worst relative peak error {rel.max():.2e}"
 
 
@@ -109,63 +168,3 @@ def test_hybrid_peak_accelerations_match_the_exact_solution_sampled_finely():
     rel = np.abs(got - exact) / exact
     print(f"worst relative peak acceleration error {rel.max():.2e}")
     assert rel.max() < 1e-6
-
-
-def test_hybrid_energy_balance_closes_at_sixth_order():
-    """The input and damping work over exact steps by Euler–Maclaurin's rule to sixth order,
-    h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁) − h⁴/720·(p⃛₀ − p⃛₁), with the powers' rates from the exact
-    states: the balance error of the eccentric building (no contact, every step exact) falls as
-    h⁶: its observed order between the default substep (3.3 ms) and 2 ms is above 5.5 (the
-    fourth-order rule without the h⁴ term: 4, the plain trapezoidal rule: 2), and at the
-    default it is below 3e-8 of the input (3.8e-7 with the fourth-order rule at 2 ms, 8.6e-5
-    with the trapezoidal rule). Measured 1.1e-8 and 5.7e-10: order 5.7."""
-    from pounding_cli.api import execute, prepare
-    from pounding_cli.bench.run import Setting, with_setting
-
-    scene = prepare(_eccentric_case("hybrid"))
-    errors, substeps = [], []
-    for scale in (1.0, 0.5):  # ω_max·h ≤ 0.4 (the default), 0.2
-        result = execute(with_setting(scene, Setting("x", "hybrid", sampling_scale=scale)))
-        assert result.diagnostics["cdm_steps"] == 0
-        errors.append(result.balance_error_ratio)
-        substeps.append(result.diagnostics["substep"])
-    order = np.log(errors[0] / errors[1]) / np.log(substeps[0] / substeps[1])
-    print(f"balance error {errors[0]:.2e} at h = {substeps[0] * 1e3:.3g} ms, {errors[1]:.2e} at "
-          f"{substeps[1] * 1e3:.3g} ms: order {order:.2f}")  # fmt: skip
-    assert substeps == pytest.approx([1 / 300, 1 / 500])
-    assert order > 5.5
-    assert errors[0] < 3e-8
-
-
-def test_energy_rule_worst_case_where_the_highest_mode_dissipates():
-    """The sixth-order rule's error over an exact step of span ω·H is about (2ω·H)⁶/30240 of
-    what the mode dissipates in it (the damping power vᵀCv oscillates at 2ω): largest where the
-    highest mode carries the energy. A one-storey building in free vibration along x (one
-    mode, 5 % damping, v₀ = 0.3 m/s, no ground motion, ten periods) dissipates its initial
-    kinetic energy ½·m·v₀² (the input): the balance error relative to it is 1.5e-7 at ω·h =
-    0.4 and 1.0e-5 at 0.8, the default's longest span (docs/bench.md, "Is the default on the
-    front?"), order 6: the bounds 2e-7 and 1.2e-5 sit 32 and 17 % above them."""
-    from pounding_cli.assembly import assemble
-    from pounding_cli.solver import simulate
-    from pounding_cli.solver.cdm import ENERGY_NAMES
-    from pounding_cli.solver.integrate import stiffness_blocks
-    from conftest import load_doc, model_doc, square_building
-
-    system = assemble(load_doc(model_doc(square_building(storeys=1))))
-    stiffness = stiffness_blocks(system)[0]
-    assert np.allclose(stiffness[0, 1:], 0.0)  # x is a mode of its own: the oscillator is one mode
-    m, k = system.mass[0], stiffness[0, 0]
-    omega, v0 = np.sqrt(k / m), 0.3
-    errors = []
-    for omega_h in (0.4, 0.8):
-        h = omega_h / omega
-        n_sub = int(np.ceil(20 * np.pi / omega_h))
-        response = simulate(system, np.zeros((n_sub + 1, 2)), h, h / 4, 4, 4 * n_sub,
-                            initial_velocity=np.array([v0, 0.0, 0.0]), substep=4)  # fmt: skip
-        assert response.status == "complete" and response.cdm_steps == 0
-        energy = dict(zip(ENERGY_NAMES, response.energy[-1]))
-        assert energy["input"] == pytest.approx(0.5 * m * v0**2, rel=1e-12)
-        errors.append(abs(energy["balance_error"]) / energy["input"])
-    print(f"balance error / input: {errors[0]:.2e} at ω·h = 0.4, {errors[1]:.2e} at 0.8")
-    assert errors[0] < 2e-7 and errors[1] < 1.2e-5
-    assert np.log2(errors[1] / errors[0]) > 5.5

@@ -48,7 +48,9 @@ def test_hybrid_without_contact_takes_the_substeps_validate_announces():
     assert plan["integrator"] == "hybrid"
     assert plan["substeps"] * plan["substep_s"] == pytest.approx(2.0, rel=1e-9)
     assert plan["substeps"] * plan["cdm_steps_per_substep"] == plan["steps_of_dt"]
-    assert plan["steps"] < plan["substeps"]  # two substeps at once between output and record samples
+    # one exact step per substep: the substep is the whole output interval here, so no two
+    # fit between samples (doubles: test_time_history, test_approach)
+    assert plan["steps"] == plan["substeps"] and plan["substep_s"] == pytest.approx(plan["output_interval_s"])
     d = pound.run_model(model).diagnostics
     assert (d["integrator"], d["steps"], d["exact_substeps"], d["cdm_steps"]) == ("hybrid", plan["steps"], plan["steps"], 0)
     assert d["exact_steps_of_dt"] == plan["steps_of_dt"]

@@ -43,11 +43,11 @@ ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact"
 # accumulators carried between calls: input, damping and contact energy, their last powers,
 # the number of steps with a contact, and a flag "no earlier power to integrate from" (set at
 # the start and when an integrator takes over at an instant already accounted for); the
-# hybrid's exact points also keep the rate of their damping power and its third rate's three
-# terms (ACC_D3_DAMPING … + 2: hybrid.exact_point)
+# hybrid's exact steps leave their exact input and damping work in the last two
+# (hybrid.propagate)
 (ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS,
- ACC_FRESH, ACC_ENERGY_FLOOR, ACC_HYSTERETIC, ACC_DP_DAMPING, ACC_D3_DAMPING) = range(12)  # fmt: skip
-N_ACC = 14
+ ACC_FRESH, ACC_ENERGY_FLOOR, ACC_HYSTERETIC, ACC_STEP_INPUT, ACC_STEP_DAMPING) = range(12)  # fmt: skip
+N_ACC = 12
 
 STATUS_OK, STATUS_DIVERGED, STATUS_ENERGY = 0, 1, 2
 

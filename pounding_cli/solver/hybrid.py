@@ -26,19 +26,20 @@ Hand-over (both second-order consistent):
   (no contact force: none is possible yet); C·v_{k−½} and K·u_k from the storey kernel.
 - CDM → exact at t_n: v_n = v_{n−½} + Δv_n/2, Δv_n from one more CDM residual (no contact).
 Energy keeps one account across both: each hand-over closes the interval it ends and marks
-the instant as counted; exact steps integrate the powers by the end-corrected trapezoidal
-rule (exact_point), the CDM by the trapezoidal rule.
+the instant as counted; exact steps add their exact work (propagate: the ground's and the
+damping's over the step, from the same matrix exponentials as the step itself), the CDM
+integrates the powers by the trapezoidal rule.
 """
 
 from __future__ import annotations
 
 from .cdm import (
     ACC_DAMPING,
-    ACC_D3_DAMPING,
-    ACC_DP_DAMPING,
     ACC_FRESH,
     ACC_INPUT,
     ACC_HYSTERETIC,
+    ACC_STEP_DAMPING,
+    ACC_STEP_INPUT,
     STATUS_DIVERGED,
     STATUS_OK,
     accumulate_energy,
@@ -54,7 +55,7 @@ from .broad_phase import BR_N_LIVE
 from .contact import contact_possible_within, contact_ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import REASSOCIATE, kernel
-from .peaks import peaks_between, update_peaks
+from .peaks import peaks_between, settle_crests, update_peaks
 
 # exact (substeps of h); CDM at the contact step; CDM at the yielding step; exact in finer steps
 # toward a contact that may begin within the substep
@@ -90,19 +91,23 @@ def exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bott
 @kernel
 def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground, ground_dt,
                 g, acc, storey_axes, centre, col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp,
-                peak_acc, kept, between, first, rates):  # fmt: skip
+                peak_acc, kept, between, first, rates, crest_work):  # fmt: skip
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
-    accounted for (trapezoidal; over an exact step, end-corrected with the powers' rates to
-    sixth order, below), the peaks. When that last state was the previous exact point
-    (an open account: no hand-over since), the peaks include those of the step between
-    (peaks_between, from what kept and between hold of that state; first: the storeys' first
-    columns); for the accelerations' it needs their first two rates: ȧ = −M⁻¹(K·v + C·a_rel)
+    accounted for (over an exact step, the work propagate left in acc[ACC_STEP_INPUT] and
+    acc[ACC_STEP_DAMPING], exact; else trapezoidal), the peaks. When that last state was the
+    previous exact point (an open account: no hand-over since), the peaks include those of
+    the step between (peaks_between, from what kept and between hold of that state; first:
+    the storeys' first columns); for the accelerations' it needs their first two rates: ȧ = −M⁻¹(K·v + C·a_rel)
     (the ground's own rate drops out: a_abs depends on u and v alone), left in rates[2], and
     ä = −M⁻¹(K·a_rel + C·ȧ_rel) with ȧ_rel = ȧ − ȧ_g, whose part without the ground's rate ȧ_g
     is left in rates[3] (rates[0], rates[1], rates[4]: K·a_rel, C·a_rel, C·ȧ; rates[5],
     rates[6] hold M⁻¹·C·e_X and M⁻¹·C·e_Y, e the floors' unit translations, which carry the
-    rest: integrate.ground_rate_response). Returns the ground acceleration (X, Y) at t."""
+    rest: integrate.ground_rate_response). The crests peaks_between lists are valued
+    exactly (settle_crests) from the motion's derivatives at t (state_series); crest_work =
+    (floor_ratio, crests, series, series_k, coef): the share of a running peak a quintic crest
+    must pass to be listed, and the work arrays of both. Returns the ground acceleration (X, Y)
+    at t."""
     smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
     agx, agy = exact_state(t, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k, bottom, top, ground,
                            ground_dt, g)  # fmt: skip
@@ -124,84 +129,123 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
         sy = (agy - a0y) / gap
     p_in = 0.0
     p_damp = 0.0
-    dp_damp = 0.0  # its rate, 2·a_relᵀ·C·v (C symmetric)
-    # its third rate 2·(ä_relᵀ·C·v + 3·ȧ_relᵀ·C·a_rel) = d3 + sx·d3x + sy·d3y, as ȧ_rel and
-    # ä_rel depend on the ground's rate over the step (ä_rel = ä: a_g is linear within it)
-    d3 = d3x = d3y = 0.0
     for d in range(0, n_dof, 3):
         p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
-        d3x -= 6.0 * rates[1, d]
-        d3y -= 6.0 * rates[1, d + 1]
     for d in range(n_dof):
         p_damp += v[d] * cv[d]
-        dp_damp += 2.0 * a_rel[d] * cv[d]
-        d3 += 2.0 * (rates[3, d] * cv[d] + 3.0 * rates[2, d] * rates[1, d])
-        d3x += 2.0 * rates[5, d] * cv[d]
-        d3y += 2.0 * rates[6, d] * cv[d]
-    accumulate_energy(acc, gap, p_in, p_damp, 0.0)
-    # Euler–Maclaurin to sixth order: ∫p = h/2·(p₀ + p₁) + h²/12·(ṗ₀ − ṗ₁) − h⁴/720·(p⃛₀ − p⃛₁),
-    # the input power's rates ṗ_in = −Σ m·(ȧ_g·v + a_g·a_rel) and
-    # p⃛_in = −Σ m·(3·ȧ_g·ȧ_rel + a_g·ä_rel), a_g linear over the step
-    if smooth:
-        dp_in0 = dp_in1 = d3p_in0 = d3p_in1 = 0.0
-        for d in range(0, n_dof, 3):
-            dp_in0 -= mass[d] * (sx * kept[1, d] + a0x * (kept[2, d] - a0x) + sy * kept[1, d + 1]
-                                 + a0y * (kept[2, d + 1] - a0y))  # fmt: skip
-            dp_in1 -= mass[d] * (sx * v[d] + agx * a_rel[d] + sy * v[d + 1] + agy * a_rel[d + 1])
-            snap0x = kept[5, d] + sx * rates[5, d] + sy * rates[6, d]
-            snap0y = kept[5, d + 1] + sx * rates[5, d + 1] + sy * rates[6, d + 1]
-            snap1x = rates[3, d] + sx * rates[5, d] + sy * rates[6, d]
-            snap1y = rates[3, d + 1] + sx * rates[5, d + 1] + sy * rates[6, d + 1]
-            d3p_in0 -= mass[d] * (3.0 * (sx * (kept[3, d] - sx) + sy * (kept[3, d + 1] - sy))
-                                  + a0x * snap0x + a0y * snap0y)  # fmt: skip
-            d3p_in1 -= mass[d] * (3.0 * (sx * (rates[2, d] - sx) + sy * (rates[2, d + 1] - sy))
-                                  + agx * snap1x + agy * snap1y)  # fmt: skip
-        d3p_damp0 = acc[ACC_D3_DAMPING] + sx * acc[ACC_D3_DAMPING + 1] + sy * acc[ACC_D3_DAMPING + 2]
-        d3p_damp1 = d3 + sx * d3x + sy * d3y
-        h2 = gap * gap
-        acc[ACC_INPUT] += h2 / 12.0 * (dp_in0 - dp_in1) - h2 * h2 / 720.0 * (d3p_in0 - d3p_in1)
-        acc[ACC_DAMPING] += h2 / 12.0 * (acc[ACC_DP_DAMPING] - dp_damp) - h2 * h2 / 720.0 * (d3p_damp0 - d3p_damp1)
-    acc[ACC_DP_DAMPING] = dp_damp
-    acc[ACC_D3_DAMPING] = d3
-    acc[ACC_D3_DAMPING + 1] = d3x
-    acc[ACC_D3_DAMPING + 2] = d3y
+    if smooth:  # the exact step's own work (propagate), then the powers for a later trapezoid
+        acc[ACC_INPUT] += acc[ACC_STEP_INPUT]
+        acc[ACC_DAMPING] += acc[ACC_STEP_DAMPING]
+        accumulate_energy(acc, 0.0, p_in, p_damp, 0.0)
+    else:
+        accumulate_energy(acc, gap, p_in, p_damp, 0.0)
     update_peaks(u, a_abs, n_dof, bottom, top, storey_axes, centre, col_storey, col_arm, storey_work, peak_col,
                  peak_rot, peak_disp, peak_acc)  # fmt: skip
-    peaks_between(gap, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, bottom, top, storey_axes, centre, col_arm,
-                  first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
+    floor_ratio, crests, series, series_k, coef = crest_work
+    n_crests = peaks_between(gap, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, bottom, top, storey_axes, centre,
+                             col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc,
+                             floor_ratio, crests)  # fmt: skip
+    if n_crests > 0:
+        state_series(u, v, a_rel, sx, sy, mass, damping, storey_k, bottom, top, series, series_k)
+        settle_crests(gap, crests, n_crests, series, agx, agy, sx, sy, bottom, top, storey_axes, centre, col_storey,
+                      col_arm, coef, peak_col, peak_rot, peak_disp, peak_acc)  # fmt: skip
     return agx, agy
 
 
+@kernel
+def state_series(u, v, a_rel, sx, sy, mass, damping, storey_k, bottom, top, series, series_k):
+    """The exact motion's derivatives at a state reached by exact propagation: series[j] =
+    u⁽ʲ⁾ for j = 0 … R − 1 (R = series.shape[0]), from u, v, a_rel and the ground acceleration's
+    rate (sx, sy) m/s³ over the step: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾) − ι·a_g⁽ʲ⁾ for j ≥ 1,
+    where a_g⁽ʲ⁾ is the rate for j = 1 and 0 after (a_g is linear within the step; the members'
+    plastic correction is constant and drops out). series_k: work (2, n_dof + 3)."""
+    n_dof = mass.size
+    for d in range(n_dof):
+        series[0, d] = u[d]
+        series[1, d] = v[d]
+        series[2, d] = a_rel[d]
+    storey_matvec(series[1], storey_k, bottom, top, series_k[1])
+    for j in range(1, series.shape[0] - 2):
+        # series_k[(j + 1) % 2] = K·u⁽ʲ⁺¹⁾; series_k[j % 2] holds K·u⁽ʲ⁾ from the last order
+        storey_matvec(series[j + 1], storey_k, bottom, top, series_k[(j + 1) % 2])
+        damping_force(series[j + 1], series_k[(j + 1) % 2], mass, damping, n_dof, series[j + 2])
+        for d in range(n_dof):
+            series[j + 2, d] = -(series_k[j % 2, d] + series[j + 2, d]) / mass[d]
+        for d in range(n_dof, series.shape[1]):  # the ground's row (damping links may write it)
+            series[j + 2, d] = 0.0
+        if j == 1:
+            for d in range(0, n_dof, 3):
+                series[3, d] -= sx
+                series[3, d + 1] -= sy
+
+
 @kernel(fastmath=REASSOCIATE)
-def propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y):
-    """(u, v) at t + h from (u, v) at t, exactly, building by building (x, y: scratch)."""
+def propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_count, mass, ground, ground_dt, x, y,
+              acc):  # fmt: skip
+    """(u, v) at t + h from (u, v) at t, exactly, building by building, and the exact work
+    over the step of the ground, into acc[ACC_STEP_INPUT], and of the damping, into
+    acc[ACC_STEP_DAMPING], J (propagator.py: from z₀ = (u, v, a₀, Δa), the mean rows r and the
+    damping form G of each building). x (2·n_max + 4), y (2·n_max): scratch."""
     a0x, a0y = ground_at(t, ground, ground_dt)
     a1x, a1y = ground_at(t + h, ground, ground_dt)
     dx = a1x - a0x
     dy = a1y - a0y
+    w_in = 0.0
+    w_damp = 0.0
     for b in range(dof_start.size):
         d0 = dof_start[b]
         n = dof_count[b]
         for i in range(n):
             x[i] = u[d0 + i]
             x[n + i] = v[d0 + i]
+        x[2 * n] = a0x
+        x[2 * n + 1] = a0y
+        x[2 * n + 2] = dx
+        x[2 * n + 3] = dy
+        # the damping's work z₀ᵀ·G·z₀ (G symmetric: the upper triangle, twice) and the means
+        # S̄ of the mass-weighted translations over the step
+        mean_x = 0.0
+        mean_y = 0.0
+        for i in range(2 * n + 4):
+            row = 0.5 * damping_form[b, i, i] * x[i]
+            for j in range(i + 1, 2 * n + 4):
+                row += damping_form[b, i, j] * x[j]
+            w_damp += 2.0 * x[i] * row
+            mean_x += mean_rows[b, 0, i] * x[i]
+            mean_y += mean_rows[b, 1, i] * x[i]
+        s0x = 0.0
+        s0y = 0.0
+        for i in range(0, n, 3):
+            s0x += mass[d0 + i] * x[i]
+            s0y += mass[d0 + i + 1] * x[i + 1]
         for i in range(2 * n):
-            acc = g0[b, i, 0] * a0x + g0[b, i, 1] * a0y + g1[b, i, 0] * dx + g1[b, i, 1] * dy
+            acc_i = g0[b, i, 0] * a0x + g0[b, i, 1] * a0y + g1[b, i, 0] * dx + g1[b, i, 1] * dy
             for j in range(2 * n):
-                acc += phi[b, i, j] * x[j]
-            y[i] = acc
+                acc_i += phi[b, i, j] * x[j]
+            y[i] = acc_i
+        s1x = 0.0
+        s1y = 0.0
+        for i in range(0, n, 3):
+            s1x += mass[d0 + i] * y[i]
+            s1y += mass[d0 + i + 1] * y[i + 1]
+        w_in -= a0x * (s1x - s0x) + dx * (s1x - mean_x) + a0y * (s1y - s0y) + dy * (s1y - mean_y)
         for i in range(n):
             u[d0 + i] = y[i]
             v[d0 + i] = y[n + i]
+    acc[ACC_STEP_INPUT] = w_in
+    acc[ACC_STEP_DAMPING] = w_damp
 
 
 @kernel
-def propagate_elastic(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y, has_members, u_static):
-    """propagate() about the static offset u_static of the members' plastic deflections."""
+def propagate_elastic(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_count, mass, ground, ground_dt,
+                      x, y, acc, has_members, u_static):  # fmt: skip
+    """propagate() about the static offset u_static of the members' plastic deflections (the
+    work is the same: the offset is constant)."""
     if has_members:
         for d in range(u_static.size):
             u[d] -= u_static[d]
-    propagate(t, h, u, v, phi, g0, g1, dof_start, dof_count, ground, ground_dt, x, y)
+    propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_count, mass, ground, ground_dt, x, y,
+              acc)  # fmt: skip
     if has_members:
         for d in range(u_static.size):
             u[d] += u_static[d]
@@ -223,13 +267,15 @@ def _enter_cdm(step, u, v_exact, a_rel, v_half, dv, storey_k, bottom, top, z, ma
 @kernel
 def hybrid_advance(
     k_start, k_stop, k_end, h, sub, sub_y, binv_y, stride_h, u_limit,
-    # exact propagation: Φ, Γ₀, Γ₁ per level (level j: steps of h/2^j); kinv: K⁻¹ blocks,
+    # exact propagation: Φ, Γ₀, Γ₁, the mean rows and damping forms of the work per level
+    # (level j: steps of h/2^j; propagator.building_propagators); kinv: K⁻¹ blocks,
     # u_static: K⁻¹·g while the members stay elastic; gap: the last exact step, s; kept, between,
     # first: what peaks_between keeps of the last exact state, and the storeys' first columns;
     # rates: exact_point's work (N_RATES, n_dof + 3; integrate.ground_rate_response); phi2, g02,
-    # g12: Φ, Γ₀, Γ₁ of a double substep 2h
-    phi, g0, g1, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept, between, first,
-    rates, phi2, g02, g12,
+    # g12, mean2, form2: the same of a double substep 2h (none, for no building: no double
+    # substeps, as their ω_max·2h would pass peaks.CREST_SPAN); crest_work: exact_point's
+    phi, g0, g1, mean_rows, damping_form, v_exact, kv, a_rel, xbuf, ybuf, mode, counters, kinv, u_static, gap, kept,
+    between, first, rates, phi2, g02, g12, mean2, form2, crest_work,
     # everything cdm.advance takes after its first five arguments
     mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
     ground, ground_dt, storey_axes, centre, col_storey, col_arm,
@@ -284,7 +330,7 @@ def hybrid_advance(
             agx, agy = exact_point(t, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                                    storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                                    col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                                   between, first, rates)  # fmt: skip
+                                   between, first, rates, crest_work)  # fmt: skip
             e_plastic = 0.0
             if has_members:
                 member_states(u, members, plastic, k // stride_h if k % stride_h == 0 else -1, out_member, peak_member)
@@ -298,9 +344,10 @@ def hybrid_advance(
                     return status, k
             if k == k_end:
                 return STATUS_OK, k + 1
-            # two substeps at once where no output sample, record sample, call's end or the
-            # analysis' end falls inside them, and nothing can touch or yield within 2·2h
-            double = (k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
+            # two substeps at once where their span allows it (phi2), no output sample, record
+            # sample, call's end or the analysis' end falls inside them, and nothing can touch or
+            # yield within 2·2h
+            double = (phi2.shape[0] > 0 and k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
                       and yielded == 0
                       and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
                                                                      geometry, params, broad))
@@ -316,11 +363,12 @@ def hybrid_advance(
             if not (contact_soon or may_yield):
                 span = 2 if double else 1
                 if double:
-                    propagate_elastic(t, 2.0 * h, u, v_exact, phi2, g02, g12, dof_start, dof_count, ground,
-                                      ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                    propagate_elastic(t, 2.0 * h, u, v_exact, phi2, g02, g12, mean2, form2, dof_start, dof_count,
+                                      mass, ground, ground_dt, xbuf, ybuf, acc, has_members, u_static)  # fmt: skip
                 else:
-                    propagate_elastic(t, h, u, v_exact, phi[0], g0[0], g1[0], dof_start, dof_count, ground,
-                                      ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                    propagate_elastic(t, h, u, v_exact, phi[0], g0[0], g1[0], mean_rows[0], damping_form[0],
+                                      dof_start, dof_count, mass, ground, ground_dt, xbuf, ybuf, acc, has_members,
+                                      u_static)  # fmt: skip
                 gap[0] = span * h
                 counters[CNT_EXACT] += 1
                 counters[CNT_EXACT_SPAN] += span * sub
@@ -394,8 +442,9 @@ def hybrid_advance(
                                damping, cv_half, acc)  # fmt: skip
                     counters[CNT_SWITCHES] += 1
                     continue
-                propagate_elastic(t_pos, size * h_fine, u, v_exact, phi[level], g0[level], g1[level], dof_start,
-                                  dof_count, ground, ground_dt, xbuf, ybuf, has_members, u_static)  # fmt: skip
+                propagate_elastic(t_pos, size * h_fine, u, v_exact, phi[level], g0[level], g1[level],
+                                  mean_rows[level], damping_form[level], dof_start, dof_count, mass, ground, ground_dt,
+                                  xbuf, ybuf, acc, has_members, u_static)  # fmt: skip
                 counters[CNT_EXACT] += 1
                 counters[CNT_EXACT_SPAN] += size * q
                 pos += size
@@ -410,7 +459,7 @@ def hybrid_advance(
                 exact_point(t + pos * h_fine, gap[0], u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping,
                             storey_k, storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre,
                             col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept,
-                            between, first, rates)  # fmt: skip
+                            between, first, rates, crest_work)  # fmt: skip
                 if level > 1 and pos % (2 * size) == 0:
                     level -= 1  # try the coarser step: the next pass checks it
                 continue
@@ -451,7 +500,7 @@ def hybrid_advance(
             exact_point(t_pos, 0.0, u, v_exact, ku, kv, cv_next, a_abs, a_rel, mass, damping, storey_k,
                         storey_bottom, storey_top, ground, ground_dt, g, acc, storey_axes, centre, col_storey,
                         col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc, kept, between,
-                        first, rates)  # fmt: skip
+                        first, rates, crest_work)  # fmt: skip
     return STATUS_OK, k_stop
 
 

@@ -17,7 +17,7 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
-from .peaks import KEPT_ROWS, between_arrays
+from .peaks import CREST_MARGIN, CREST_SPAN, KEPT_ROWS, between_arrays, crest_arrays, crest_series_order
 from .propagator import building_propagators
 
 DIVERGENCE_LIMIT = 100.0
@@ -233,6 +233,18 @@ def stiffness_blocks(structure: StructureArrays, times: Callable = stiffness_tim
     return blocks
 
 
+def fastest_rate(stiffness: list[np.ndarray], damping: list[np.ndarray], mass: np.ndarray, starts, counts) -> float:
+    """The largest |λ| of the buildings' state matrices [[0, I], [−M⁻¹K, −M⁻¹C]], 1/s: ω_max
+    where every mode is underdamped, more where a mode is overdamped. The exact motion's
+    derivatives grow as its powers (peaks.crest_series_order)."""
+    rho = 0.0
+    for k, c, d0, n in zip(stiffness, damping, starts, counts):
+        m = mass[d0 : d0 + n]
+        a = np.block([[np.zeros((n, n)), np.eye(n)], [-k / m[:, None], -c / m[:, None]]])
+        rho = max(rho, float(np.max(np.abs(np.linalg.eigvals(a)))))
+    return rho
+
+
 def damping_blocks(structure: StructureArrays) -> list[np.ndarray]:
     """Dense C of every building, column by column, as the time loop applies it."""
     return stiffness_blocks(structure, damping_times)
@@ -374,18 +386,27 @@ def simulate(
         blocks = stiffness_blocks(structure)
         levels = approach_levels(substep, int(counts.max()), starts.size) if n_pairs else 0
         damping_dense = damping_blocks(structure)
-        phi, g0, g1 = (np.stack(m) for m in zip(*(
+        phi, g0, g1, mean_rows, damping_form = (np.stack(m) for m in zip(*(
             building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**j)
             for j in range(levels + 1))))  # fmt: skip
         kinv = inverse_blocks(blocks, counts) if n_members else kinv
         sub_y = yield_substep if 0 < yield_substep < substep else substep
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
         v_exact = v0.copy()
-        exact_args = (phi, g0, g1, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
-                      np.zeros(phi.shape[2]), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
+        rho = fastest_rate(blocks, damping_dense, structure.mass, starts, counts)
+        # two substeps at once (hybrid.hybrid_advance) where the peaks allow it and two fit
+        # between record and output samples
+        doubles = rho * 2 * h <= CREST_SPAN and round(ground_dt / h) > 1 and stride // substep > 1
+        span = rho * (2 * h if doubles else h)
+        series = np.zeros((crest_series_order(span), n_dof + 3))
+        crest_work = (1.0 - min(0.5, CREST_MARGIN * span**6 / 46080), crest_arrays(col_arm.shape[0], n_storeys, n_dof),
+                      series, np.zeros((2, n_dof + 3)), np.zeros(series.shape[0]))  # fmt: skip
+        double = building_propagators(blocks, damping_dense, structure.mass, starts, counts, 2 * h if doubles else h)
+        exact_args = (phi, g0, g1, mean_rows, damping_form, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
+                      np.zeros(phi.shape[2] + 4), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
                       kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((KEPT_ROWS, n_dof + 3)),
                       *between_arrays(structure.column_storey, col_arm, n_storeys), ground_rate_response(structure),
-                      *building_propagators(blocks, damping_dense, structure.mass, starts, counts, 2 * h))  # fmt: skip
+                      *(m if doubles else m[:0] for m in double), crest_work)  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
@@ -487,8 +508,9 @@ APPROACH_MEMORY = 64 * 2**20
 def approach_levels(substep: int, n_max: int, n_buildings: int) -> int:
     """How many times the hybrid may halve its exact step toward a contact: the largest L
     with substep a multiple of 2^L, substep/2^L ≥ APPROACH_MIN_STEPS CDM steps, and the
-    L + 1 sets of propagators (n_buildings × (2·n_max)² each) within APPROACH_MEMORY."""
-    per_level = 8 * n_buildings * (2 * n_max) ** 2
+    L + 1 sets of propagators (n_buildings × ((2·n_max)² + (2·n_max + 4)²) each: Φ and the
+    damping form) within APPROACH_MEMORY."""
+    per_level = 8 * n_buildings * ((2 * n_max) ** 2 + (2 * n_max + 4) ** 2)
     levels = 0
     while (substep % 2 ** (levels + 1) == 0 and substep // 2 ** (levels + 1) >= APPROACH_MIN_STEPS
            and (levels + 2) * per_level <= APPROACH_MEMORY):  # fmt: skip

@@ -2,15 +2,29 @@
 accelerations.
 
 Peaks are taken at every state the integrator reaches (update_peaks). Where it reaches them
-by exact propagation the steps are long (ω_max·h up to 0.4, two substeps at once in free
-vibration) and a peak falling between two states would be missed by up to
-1 − cos(ω·h/2) ≈ (ω·h)²/8 of its size. There the motion between the states is smooth and both
-ends carry exact values and their first two rates (displacements: u, v, a_rel; absolute
-accelerations: a, ȧ, ä), so peaks_between also takes the largest value of the quintic
-Hermite interpolant of each deflection, displacement and absolute acceleration over the step.
-Its error is h⁶·max|q⁽⁶⁾|/(6!·2⁶) = (ω·h)⁶/46080 of a mode's share: 5.7·10⁻⁶ over the
-hybrid's double substeps (ω·h = 0.8), where the cubic through values and rates alone,
-(ω·h)⁴/384, allowed 1.1·10⁻³ there.
+by exact propagation the steps are long (ω_max·H up to CREST_SPAN = 4: a whole record
+interval in most scenes) and a peak falling between two states would be missed by up to
+1 − cos(ω·H/2) of its size. There the motion between the states is smooth and the peaks
+between them are exact:
+
+1. Located by the quintic. Both ends carry exact values and their first two rates
+   (displacements: u, v, a_rel; absolute accelerations: a, ȧ, ä), and the quintic Hermite
+   interpolant through them is within (ω·H)⁶/46080 of a mode's share of the motion
+   (h⁶·max|q⁽⁶⁾|/(6!·2⁶)). peaks_between lists every stationary point of the quintic of every
+   deflection, displacement and acceleration whose value comes within CREST_MARGIN of that
+   bound of its running peak (quintic_crests): the crests that may raise it.
+2. Valued exactly. For a step with such crests, the exact motion's derivatives of every order
+   at the step's end, u⁽ʲ⁾ (hybrid.state_series: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾), the
+   ground's rate entering u‴ alone, as it is linear within the step), give each listed
+   quantity's Taylor series about the end, exact to rounding over the step once its order
+   passes ρ·H (crest_series_order; ρ the largest |λ| of the buildings' state matrices).
+   Newton's steps on that series from the quintic's crest converge to the exact crest
+   (settle_crests), and the running peak rises to the exact values they visit: never above
+   the motion's own.
+
+Random sums of up to four modes (docs/theory.md §6) put the quintic's crest within Newton's
+reach of the exact one up to ω_max·H = 5 (3,000 cases each): every crest exact to 5e-15. At
+ω·H = 6 a few fell into the wrong basin; CREST_SPAN = 4 keeps a margin.
 """
 
 from __future__ import annotations
@@ -20,6 +34,15 @@ import math
 import numpy as np
 
 from .jit import kernel
+
+CREST_SPAN = 4.0
+"""The longest exact step the peaks allow, as ω_max·H: the quintic locates every crest within
+Newton's reach of the exact one (module docstring)."""
+
+CREST_MARGIN = 4.0
+"""A quintic crest is valued exactly where it comes within CREST_MARGIN·(ρ·H_max)⁶/46080 of
+its running peak (relative): four times the quintic's error bound, as a mode's share of a
+quantity may exceed the quantity."""
 
 HERMITE_ARM = 4.0 / 27.0
 """The largest value of the Hermite basis functions s(1 − s)² and s²(1 − s) on [0, 1]: the
@@ -117,30 +140,33 @@ def _root_in(k0, k1, k2, k3, k4, lo, hi):
 
 
 @kernel(inline="always")
-def _stationary_peak(q0, c, a2, a3, a4, a5, lo, hi, best):
-    """The larger of `best` and |q| at a root of q' inside (lo, hi), q = q0 + c·s + a2·s² + … +
-    a5·s⁵, where q' is monotonic (lo, hi: consecutive roots of q'' or ends of [0, 1])."""
+def _crest_at(q0, c, a2, a3, a4, a5, lo, hi, floor, kind, index, crests, n):
+    """Lists in crests[n] (kind, index, s) the root s of q' inside (lo, hi), q = q0 + c·s +
+    a2·s² + … + a5·s⁵, where q' is monotonic there, if |q(s)| > floor; returns the new count."""
     s = _root_in(c, 2.0 * a2, 3.0 * a3, 4.0 * a4, 5.0 * a5, lo, hi)
-    if s < 0.0:
-        return best
-    value = abs(q0 + s * (c + s * (a2 + s * (a3 + s * (a4 + s * a5)))))
-    return value if value > best else best
+    if s < 0.0 or abs(q0 + s * (c + s * (a2 + s * (a3 + s * (a4 + s * a5))))) <= floor:
+        return n
+    crests[n, 0] = kind
+    crests[n, 1] = index
+    crests[n, 2] = s
+    return n + 1
 
 
 @kernel(inline="always")
-def quintic_peak(q0, m0, c0, q1, m1, c1, h, peak):
-    """The larger of `peak` and |q| at the stationary points inside (0, h) of the quintic q(τ)
-    through the values q, rates m and second derivatives c at both ends (one unit per
-    derivative, h in s): error (ω·h)⁶/46080 of a mode's amplitude, against the cubic's
-    (ω·h)⁴/384. The ends themselves are update_peaks' business.
+def quintic_crests(q0, m0, c0, q1, m1, c1, h, floor, kind, index, crests, n):
+    """Lists the stationary points inside (0, h) of the quintic q(τ) through the values q,
+    rates m and second derivatives c at both ends (one unit per derivative, h in s) where
+    |q| passes `floor`: rows (kind, index, s = τ/h) of crests from row n on (four at most, the
+    roots of a quartic q'); returns the new count. The ends themselves are update_peaks'
+    business.
 
     The stationary points are isolated exactly: the roots of the third derivative (a
     quadratic) split [0, 1] into pieces where q'' is monotonic; the roots of q'' (one a piece
     at most) split it into pieces where q' is, each holding one stationary point at most,
     found by safeguarded Newton steps."""
     e0, e1 = bend_mismatch(q0, m0, c0, q1, m1, c1, h)
-    if max(abs(q0), abs(q1)) + HERMITE_ARM * h * (abs(m0) + abs(m1)) + QUINTIC_BEND * (abs(e0) + abs(e1)) <= peak:
-        return peak
+    if max(abs(q0), abs(q1)) + HERMITE_ARM * h * (abs(m0) + abs(m1)) + QUINTIC_BEND * (abs(e0) + abs(e1)) <= floor:
+        return n
     # q(s·h) = q0 + c·s + a2·s² + a3·s³ + a4·s⁴ + a5·s⁵ on s ∈ [0, 1]: the cubic through
     # (q, m) plus bend_mismatch's terms
     c = h * m0
@@ -164,16 +190,104 @@ def quintic_peak(q0, m0, c0, q1, m1, c1, h, peak):
     t1, t2 = min(r1, r2), max(r1, r2)
     # q'' monotonic on [0, t1], [t1, t2], [t2, 1]: its roots, ascending, split [0, 1] into
     # the pieces where q' is monotonic
-    best = peak
     start = 0.0
     for piece in range(3):
         lo = 0.0 if piece == 0 else (t1 if piece == 1 else t2)
         hi = t1 if piece == 0 else (t2 if piece == 1 else 1.0)
         bend = _root_in(2.0 * a2, 6.0 * a3, 12.0 * a4, 20.0 * a5, 0.0, lo, hi)  # of q''
         if bend > 0.0:
-            best = _stationary_peak(q0, c, a2, a3, a4, a5, start, bend, best)
+            n = _crest_at(q0, c, a2, a3, a4, a5, start, bend, floor, kind, index, crests, n)
             start = bend
-    return _stationary_peak(q0, c, a2, a3, a4, a5, start, 1.0, best)
+    return _crest_at(q0, c, a2, a3, a4, a5, start, 1.0, floor, kind, index, crests, n)
+
+
+# the kinds of quantity a crest belongs to (column 0 of crests): a column's deflection
+# (index 2·column + axis), a storey's twist, a floor displacement, a floor's absolute
+# acceleration (index: the DOF)
+CREST_COLUMN, CREST_TWIST, CREST_DISPLACEMENT, CREST_ACCELERATION = 0, 1, 2, 3
+
+
+def crest_arrays(n_columns: int, n_storeys: int, n_dof: int) -> np.ndarray:
+    """peaks_between's list of crests: room for four of every quantity it follows."""
+    return np.zeros((4 * (2 * n_columns + n_storeys + 2 * n_dof), 3))
+
+
+def crest_series_order(rho_h: float) -> int:
+    """Rows of hybrid.state_series (u⁽ʲ⁾, j = 0 … R − 1) for exact steps of ρ·H ≤ rho_h: the
+    Taylor series of an acceleration's second derivative, its shortest, keeps R − 4 terms, and
+    its remainder (ρ·H)^(R−4)/(R−4)! of the motion is below 1e-16."""
+    order, term = 0, 1.0
+    while term > 1e-16 or order < 8:
+        order += 1
+        term *= rho_h / order
+    return order + 4
+
+
+@kernel(inline="always")
+def _series_at(b, n_c, sigma):
+    """p(σ), p'(σ), p''(σ) of the polynomial p = Σ b[j]·σʲ, j < n_c (Horner's scheme)."""
+    p = b[n_c - 1]
+    d1 = d2 = 0.0
+    for j in range(n_c - 2, -1, -1):
+        d2 = d2 * sigma + d1
+        d1 = d1 * sigma + p
+        p = p * sigma + b[j]
+    return p, d1, 2.0 * d2
+
+
+@kernel
+def settle_crests(h, crests, n, series, agx, agy, sx, sy, storey_bottom, storey_top, storey_axes, centre,
+                  col_storey, col_arm, coef, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
+    """The exact values of the n crests quintic_crests listed over the step of h s that ends
+    at the state of `series` (hybrid.state_series: u⁽ʲ⁾ there, row j), raising their running
+    peaks. A quantity q, linear in u, has the Taylor series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁)
+    about the end t₁; an absolute acceleration is ü + the ground's (agx, agy at t₁, rising
+    at sx, sy m/s³ over the step). From the quintic's crest, Newton's steps on q' find the
+    exact one; every value they visit is the motion's own, so the peak takes the largest.
+    coef: work, as long as a column of series."""
+    n_rows = series.shape[0]
+    for i in range(n):
+        kind = int(crests[i, 0])
+        index = int(crests[i, 1])
+        n_c = n_rows - 2 if kind == CREST_ACCELERATION else n_rows
+        sign = 1.0
+        for j in range(n_c):
+            if kind == CREST_COLUMN or kind == CREST_TWIST:
+                st = col_storey[index // 2] if kind == CREST_COLUMN else index
+                dx, dy, rot = storey_deflection(series[j], storey_top[st], storey_bottom[st], storey_axes[st, 0],
+                                                storey_axes[st, 1], centre)  # fmt: skip
+                if kind == CREST_TWIST:
+                    value = rot
+                else:
+                    axis = index % 2
+                    value = (dx if axis == 0 else dy) + rot * col_arm[index // 2, axis]
+            elif kind == CREST_DISPLACEMENT:
+                value = series[j, index]
+            else:
+                value = series[j + 2, index]
+                if index % 3 < 2 and j < 2:
+                    value += (agx if j == 0 else sx) if index % 3 == 0 else (agy if j == 0 else sy)
+            coef[j] = sign * value
+            sign *= -1.0 / (j + 1)  # the Taylor coefficient (−1)ʲ⁺¹/(j + 1)!
+        sigma = (1.0 - crests[i, 2]) * h
+        best = 0.0
+        for _ in range(16):
+            p, dp, ddp = _series_at(coef, n_c, sigma)
+            best = max(best, abs(p))
+            if ddp == 0.0:
+                break
+            nxt = sigma - dp / ddp
+            if not 0.0 <= nxt <= h or abs(nxt - sigma) <= 1e-15 * h:
+                break
+            sigma = nxt
+        if kind == CREST_COLUMN:
+            peak_col[index // 2, index % 2] = max(peak_col[index // 2, index % 2], best)
+        elif kind == CREST_TWIST:
+            peak_rot[index] = max(peak_rot[index], best)
+        elif kind == CREST_DISPLACEMENT:
+            peak_disp[index] = max(peak_disp[index], best)
+        else:
+            peak_acc[index] = max(peak_acc[index], best)
 
 
 # columns of peaks_between's per-storey array `between`: the previous exact state's storey
@@ -199,13 +313,15 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 @kernel
 def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                  col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
+                  col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc, floor_ratio,
+                  crests):  # fmt: skip
     """After update_peaks at an exact state (u, v) with relative and absolute accelerations
     a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
-    and the running peaks of the column deflections, storey twists, floor displacements and
-    absolute floor accelerations rise to the largest values of their quintic Hermite
-    interpolants over it (quintic_peak: through values, rates and second derivatives at both
-    ends); then the state becomes the previous exact state.
+    and the crests over it of the column deflections, storey twists, floor displacements and
+    absolute floor accelerations that may raise their running peaks are listed in `crests`
+    (quintic_crests: the quintic through values, rates and second derivatives at both ends,
+    where it passes floor_ratio × the running peak); then the state becomes the previous exact
+    state. Returns the number of crests listed, for settle_crests to value exactly.
 
     rates: exact_point's (rates[2]: ȧ, rates[3]: ä less its ground part, rates[5], rates[6]:
     that part per unit ground-acceleration rate along X, Y); sx, sy: the ground acceleration's
@@ -213,16 +329,19 @@ def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bo
     just filled it); kept (KEPT_ROWS, n_dof + 3) the previous state's u, v, a_abs, ȧ, a_rel and
     ä less its ground part; between (n_storeys, BT_COLUMNS) what the BT_ columns say; first the
     storeys' first columns (between_arrays). A storey's columns are looked at only where the
-    bound for the whole storey (its deflection plus its largest arm times its twist) passes the
-    lowest of their peaks: most steps of most storeys are settled by that one comparison."""
+    bound for the whole storey (its deflection plus its largest arm times its twist) passes
+    floor_ratio × the lowest of their peaks: most steps of most storeys are settled by that
+    one comparison."""
+    n = 0
     for s in range(storey_top.size):
         rx, ry, rt = storey_deflection(v, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                        centre)  # fmt: skip
         bx, by, bt = storey_deflection(a_rel, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                        centre)  # fmt: skip
         if smooth:
-            peak_rot[s] = quintic_peak(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], between[s, BT_BEND + 2],
-                                       storey_work[s, 2], rt, bt, h, peak_rot[s])  # fmt: skip
+            n = quintic_crests(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], between[s, BT_BEND + 2],
+                               storey_work[s, 2], rt, bt, h, floor_ratio * peak_rot[s], CREST_TWIST, s, crests,
+                               n)  # fmt: skip
             twist = max(abs(between[s, BT_VALUE + 2]), abs(storey_work[s, 2]))
             twist_rate = abs(between[s, BT_RATE + 2]) + abs(rt)
             t0, t1 = bend_mismatch(between[s, BT_VALUE + 2], between[s, BT_RATE + 2], between[s, BT_BEND + 2],
@@ -240,16 +359,16 @@ def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bo
                 reach = (max(abs(q0), abs(q1)) + arm * twist
                          + HERMITE_ARM * h * (abs(m0) + abs(r1) + arm * twist_rate)
                          + QUINTIC_BEND * (abs(e0) + abs(e1) + arm * twist_bend))  # fmt: skip
-                if reach <= between[s, BT_LOWEST + axis]:
+                if reach <= floor_ratio * between[s, BT_LOWEST + axis]:
                     continue
                 lowest = np.inf
                 for k in range(first[s], first[s + 1]):
                     a = col_arm[k, axis]
-                    peak = quintic_peak(q0 + between[s, BT_VALUE + 2] * a, m0 + between[s, BT_RATE + 2] * a,
-                                        c0 + between[s, BT_BEND + 2] * a, q1 + storey_work[s, 2] * a, r1 + rt * a,
-                                        b1 + bt * a, h, peak_col[k, axis])  # fmt: skip
-                    peak_col[k, axis] = peak
-                    lowest = min(lowest, peak)
+                    n = quintic_crests(q0 + between[s, BT_VALUE + 2] * a, m0 + between[s, BT_RATE + 2] * a,
+                                       c0 + between[s, BT_BEND + 2] * a, q1 + storey_work[s, 2] * a, r1 + rt * a,
+                                       b1 + bt * a, h, floor_ratio * peak_col[k, axis], CREST_COLUMN, 2 * k + axis,
+                                       crests, n)  # fmt: skip
+                    lowest = min(lowest, peak_col[k, axis])
                 between[s, BT_LOWEST + axis] = lowest
         for j in range(3):
             between[s, BT_VALUE + j] = storey_work[s, j]
@@ -261,10 +380,12 @@ def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bo
         between[s, BT_BEND + 2] = bt
     if smooth:
         for d in range(n_dof):
-            peak_disp[d] = quintic_peak(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h, peak_disp[d])
+            n = quintic_crests(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h,
+                               floor_ratio * peak_disp[d], CREST_DISPLACEMENT, d, crests, n)  # fmt: skip
             ground_part = sx * rates[5, d] + sy * rates[6, d]
-            peak_acc[d] = quintic_peak(kept[2, d], kept[3, d], kept[5, d] + ground_part, a_abs[d], rates[2, d],
-                                       rates[3, d] + ground_part, h, peak_acc[d])  # fmt: skip
+            n = quintic_crests(kept[2, d], kept[3, d], kept[5, d] + ground_part, a_abs[d], rates[2, d],
+                               rates[3, d] + ground_part, h, floor_ratio * peak_acc[d], CREST_ACCELERATION, d,
+                               crests, n)  # fmt: skip
     for d in range(n_dof):
         kept[0, d] = u[d]
         kept[1, d] = v[d]
@@ -272,3 +393,4 @@ def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bo
         kept[3, d] = rates[2, d]
         kept[4, d] = a_rel[d]
         kept[5, d] = rates[3, d]
+    return n
