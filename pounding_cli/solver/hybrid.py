@@ -3,11 +3,13 @@ difference method (CDM) around impacts.
 
 While every pair of bodies is apart by more than it can close within the horizon, the
 buildings are linear and uncoupled, and each substep h (a divisor of the record's sample
-interval) is taken exactly by the state-transition matrices of propagator.py: no time-step
-error; the peaks between two exact states come from the quintic through them (peaks.py).
-Where nothing can touch or yield within 4h and no output or record sample falls inside,
-two substeps are taken as one (Φ of 2h): the substep grid, on which the approach below
-starts, is unchanged. When a contact may begin within 2h (bounding
+interval) is taken exactly by the state-transition matrices of propagator.py, with the
+exact work of the ground and the damping over it: no time-step error; the peaks between
+two exact states are exact too (peaks.py: located by the quintic through them, valued on
+the motion's Taylor series). Where nothing can touch or yield within 4h, no output or
+record sample falls inside and the peaks' search reaches over 2h (ω_max·2h ≤
+peaks.CREST_SPAN), two substeps are taken as one (Φ of 2h): the substep grid, on which the
+approach below starts, is unchanged. When a contact may begin within 2h (bounding
 boxes widened by what velocity and acceleration can add), the exact propagation goes on in
 steps of h/2, h/4, … h/2^L (the approach levels), halving while the outlines could touch
 within two steps (contact.contact_ruled_out_within), and hands the state to the CDM of

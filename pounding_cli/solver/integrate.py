@@ -386,9 +386,9 @@ def simulate(
         blocks = stiffness_blocks(structure)
         levels = approach_levels(substep, int(counts.max()), starts.size) if n_pairs else 0
         damping_dense = damping_blocks(structure)
-        phi, g0, g1, mean_rows, damping_form = (np.stack(m) for m in zip(*(
-            building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**j)
-            for j in range(levels + 1))))  # fmt: skip
+        # steps of h/2^L, … h/2, h, 2h, from one set of matrix exponentials (the finest)
+        steps = building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**levels, levels + 1)
+        phi, g0, g1, mean_rows, damping_form = (np.ascontiguousarray(m[levels::-1]) for m in steps)  # level j: h/2^j
         kinv = inverse_blocks(blocks, counts) if n_members else kinv
         sub_y = yield_substep if 0 < yield_substep < substep else substep
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
@@ -401,12 +401,11 @@ def simulate(
         series = np.zeros((crest_series_order(span), n_dof + 3))
         crest_work = (1.0 - min(0.5, CREST_MARGIN * span**6 / 46080), crest_arrays(col_arm.shape[0], n_storeys, n_dof),
                       series, np.zeros((2, n_dof + 3)), np.zeros(series.shape[0]))  # fmt: skip
-        double = building_propagators(blocks, damping_dense, structure.mass, starts, counts, 2 * h if doubles else h)
         exact_args = (phi, g0, g1, mean_rows, damping_form, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
                       np.zeros(phi.shape[2] + 4), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
                       kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((KEPT_ROWS, n_dof + 3)),
                       *between_arrays(structure.column_storey, col_arm, n_storeys), ground_rate_response(structure),
-                      *(m if doubles else m[:0] for m in double), crest_work)  # fmt: skip
+                      *(m[levels + 1] if doubles else m[levels + 1, :0] for m in steps), crest_work)  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:

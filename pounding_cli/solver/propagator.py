@@ -27,46 +27,74 @@ from .expm import expm
 
 
 def building_propagators(
-    stiffness_blocks: list[np.ndarray], damping_blocks: list[np.ndarray], mass: np.ndarray, starts, counts, h: float
+    stiffness_blocks: list[np.ndarray], damping_blocks: list[np.ndarray], mass: np.ndarray, starts, counts, h: float,
+    doublings: int = 0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(Φ, Γ₀, Γ₁, mean rows r, damping form G) of every building over a step h, padded to
-    n_b buildings of n_max DOFs: Φ (n_b, 2n_max, 2n_max), Γ₀ and Γ₁ (n_b, 2n_max, 2), r
-    (n_b, 2, 2n_max + 4) kg·m per unit of z₀, G (n_b, 2n_max + 4, 2n_max + 4) J per unit of z₀².
+    """(Φ, Γ₀, Γ₁, mean rows r, damping form G) of every building over steps of h, 2h, 4h, …
+    2^doublings·h, each stacked on a first axis of doublings + 1 and padded to n_b buildings
+    of n_max DOFs: Φ (·, n_b, 2n_max, 2n_max), Γ₀ and Γ₁ (·, n_b, 2n_max, 2), r
+    (·, n_b, 2, 2n_max + 4) kg·m per unit of z₀, G (·, n_b, 2n_max + 4, 2n_max + 4) J per unit
+    of z₀².
 
     stiffness_blocks[b] and damping_blocks[b] are building b's dense K and C; mass the
     diagonal of M; starts, counts the buildings' DOF ranges. Rows/columns 0…n−1 of Φ are u,
     n…2n−1 v; z₀ = (u, v, a₀X, a₀Y, ΔaX, ΔaY), of 2n + 4 entries (a building with n < n_max
     leaves the rest of its rows and columns zero, so its ground entries sit at 2n … 2n + 3).
+    The matrix exponentials are taken over h only; each longer step follows from the one
+    half its length (_doubled), exactly but for rounding.
     """
-    n_max = int(max(counts))
-    phi = np.zeros((len(counts), 2 * n_max, 2 * n_max))
-    g0 = np.zeros((len(counts), 2 * n_max, 2))
-    g1 = np.zeros((len(counts), 2 * n_max, 2))
-    mean_rows = np.zeros((len(counts), 2, 2 * n_max + 4))
-    damping_form = np.zeros((len(counts), 2 * n_max + 4, 2 * n_max + 4))
+    n_max, n_b, levels = int(max(counts)), len(counts), doublings + 1
+    phi = np.zeros((levels, n_b, 2 * n_max, 2 * n_max))
+    g0 = np.zeros((levels, n_b, 2 * n_max, 2))
+    g1 = np.zeros((levels, n_b, 2 * n_max, 2))
+    mean_rows = np.zeros((levels, n_b, 2, 2 * n_max + 4))
+    damping_form = np.zeros((levels, n_b, 2 * n_max + 4, 2 * n_max + 4))
     for b, (d0, n) in enumerate(zip(starts, counts)):
         m = mass[d0 : d0 + n]
-        k = stiffness_blocks[b]
         c = damping_blocks[b]
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = np.eye(n)
-        a[n:, :n] = -k / m[:, None]
-        a[n:, n:] = -c / m[:, None]
-        bmat = np.zeros((2 * n, 2))
-        bmat[n::3, 0] = -1.0  # the v_x rows feel −a_X
-        bmat[n + 1 :: 3, 1] = -1.0  # the v_y rows feel −a_Y
         size = 2 * n + 4
-        aug = np.zeros((size, size))
-        aug[: 2 * n, : 2 * n] = a * h
-        aug[: 2 * n, 2 * n : 2 * n + 2] = bmat * h
-        aug[2 * n : 2 * n + 2, 2 * n + 2 :] = np.eye(2)
-        e = expm(aug)
-        phi[b, : 2 * n, : 2 * n] = e[: 2 * n, : 2 * n]
-        g0[b, : 2 * n] = e[: 2 * n, 2 * n : 2 * n + 2]
-        g1[b, : 2 * n] = e[: 2 * n, 2 * n + 2 :]
-        mean_rows[b, :, :size] = _mean_rows(aug, m, n)
-        damping_form[b, :size, :size] = _damping_form(aug, c, n, h)
+        aug = _augmented(stiffness_blocks[b], c, m, n, h)
+        e, rows, form = expm(aug), _mean_rows(aug, m, n), _damping_form(aug, c, n, h)
+        for level in range(levels):
+            if level:
+                e, rows, form = _doubled(e, rows, form, n)
+            phi[level, b, : 2 * n, : 2 * n] = e[: 2 * n, : 2 * n]
+            g0[level, b, : 2 * n] = e[: 2 * n, 2 * n : 2 * n + 2]
+            g1[level, b, : 2 * n] = e[: 2 * n, 2 * n + 2 :]
+            mean_rows[level, b, :, :size] = rows
+            damping_form[level, b, :size, :size] = form
     return phi, g0, g1, mean_rows, damping_form
+
+
+def _augmented(k: np.ndarray, c: np.ndarray, m: np.ndarray, n: int, h: float) -> np.ndarray:
+    """Â (2n + 4)² of a step h: dz/dσ = Â·z for z = (u, v, a₀, Δa), σ = t/h."""
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n] = -k / m[:, None]
+    a[n:, n:] = -c / m[:, None]
+    bmat = np.zeros((2 * n, 2))
+    bmat[n::3, 0] = -1.0  # the v_x rows feel −a_X
+    bmat[n + 1 :: 3, 1] = -1.0  # the v_y rows feel −a_Y
+    aug = np.zeros((2 * n + 4, 2 * n + 4))
+    aug[: 2 * n, : 2 * n] = a * h
+    aug[: 2 * n, 2 * n : 2 * n + 2] = bmat * h
+    aug[2 * n : 2 * n + 2, 2 * n + 2 :] = np.eye(2)
+    return aug
+
+
+def _doubled(e: np.ndarray, rows: np.ndarray, form: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(e^Â, r, G) of a step 2τ from those of τ. With S = diag(1, …, 1, ½, ½) halving the
+    ground's rise Δa, a step of 2τ from z₀ is the step of τ from S·z₀ and then from
+    z_mid = e^Â·S·z₀ (the augmented state carries a₀ + Δa/2 and Δa/2 to the second half):
+    e^Â₂ = S⁻¹·(e^Â)²·S, r₂ = ½·r·(I + e^Â)·S (the mean over both halves), G₂ = Sᵀ·(G +
+    e^Âᵀ·G·e^Â)·S."""
+    scale = np.ones(2 * n + 4)
+    scale[2 * n + 2 :] = 0.5
+    e2 = (e @ e) * scale[None, :]
+    e2[2 * n + 2 :] /= 0.5
+    rows2 = 0.5 * (rows + rows @ e) * scale[None, :]
+    form2 = (form + e.T @ form @ e) * np.outer(scale, scale)
+    return e2, rows2, 0.5 * (form2 + form2.T)
 
 
 def _mean_rows(aug: np.ndarray, m: np.ndarray, n: int) -> np.ndarray:
