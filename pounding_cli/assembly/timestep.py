@@ -61,13 +61,13 @@ scenes a whole record interval (h must divide it: the ground acceleration is lin
 step). Nothing an exact step yields depends on its length: the state is exact (the matrix
 exponential), so is the work of the ground and the damping over it (solver/propagator.py),
 and so are the peaks between exact states (solver/peaks.py: the quintic through their values
-and first two rates locates each crest, the motion's Taylor series values it; that holds to
-ω_max·H = 5 in the tests, hence 4). Substeps are taken two at once where two fit between
+and first two rates locates each crest, the motion's Taylor series values it; that held to
+ω_max·H = 5 in random mode sums, hence 4). Substeps are taken two at once where two fit between
 record and output samples and ω_max·2h stays within it. The longer h also sets the horizon
 of the contact checks and where the CDM starts and stops. Measured against 0.4, the
 quintic's bound before the exact crests and work (docs/bench.md, "Is the default on the
 front?"): every scene without yielding members takes the same or fewer seconds at the same
-or smaller errors; the linear one 35 % fewer, the Kobe one 20 %."""
+or smaller errors; the linear one 35 % fewer, the Kobe one 21 %."""
 
 YIELD_SAMPLING = 0.2
 """ω_max·h with yielding members: their yield check looks h ahead, and a member that may

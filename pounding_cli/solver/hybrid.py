@@ -100,8 +100,9 @@ def exact_point(t, gap, u, v, ku, kv, cv, a_abs, a_rel, mass, damping, storey_k,
     acc[ACC_STEP_DAMPING], exact; else trapezoidal), the peaks. When that last state was the
     previous exact point (an open account: no hand-over since), the peaks include those of
     the step between (peaks_between, from what kept and between hold of that state; first:
-    the storeys' first columns); for the accelerations' it needs their first two rates: ȧ = −M⁻¹(K·v + C·a_rel)
-    (the ground's own rate drops out: a_abs depends on u and v alone), left in rates[2], and
+    the storeys' first columns); for the accelerations' it needs their first two rates:
+    ȧ = −M⁻¹(K·v + C·a_rel) (the ground's own rate drops out: a_abs depends on u and v
+    alone), left in rates[2], and
     ä = −M⁻¹(K·a_rel + C·ȧ_rel) with ȧ_rel = ȧ − ȧ_g, whose part without the ground's rate ȧ_g
     is left in rates[3] (rates[0], rates[1], rates[4]: K·a_rel, C·a_rel, C·ȧ; rates[5],
     rates[6] hold M⁻¹·C·e_X and M⁻¹·C·e_Y, e the floors' unit translations, which carry the
@@ -349,8 +350,8 @@ def hybrid_advance(
             # two substeps at once where their span allows it (phi2), no output sample, record
             # sample, call's end or the analysis' end falls inside them, and nothing can touch or
             # yield within 2·2h
-            double = (phi2.shape[0] > 0 and k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0 and (k + 1) % per_record != 0
-                      and yielded == 0
+            double = (phi2.shape[0] > 0 and k + 2 <= min(k_stop, k_end) and (k + 1) % stride_h != 0
+                      and (k + 1) % per_record != 0 and yielded == 0
                       and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,
                                                                      geometry, params, broad))
                       and not (has_members and yield_possible_within(ENTER_HORIZON * 2.0 * h, u, v_exact, a_rel,

@@ -18,7 +18,7 @@ from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
 from .peaks import CREST_MARGIN, CREST_SPAN, KEPT_ROWS, between_arrays, crest_arrays, crest_series_order
-from .propagator import building_propagators
+from .propagator import building_propagators, state_matrix
 
 DIVERGENCE_LIMIT = 100.0
 """A relative displacement beyond this many metres means the run has diverged."""
@@ -239,9 +239,7 @@ def fastest_rate(stiffness: list[np.ndarray], damping: list[np.ndarray], mass: n
     derivatives grow as its powers (peaks.crest_series_order)."""
     rho = 0.0
     for k, c, d0, n in zip(stiffness, damping, starts, counts):
-        m = mass[d0 : d0 + n]
-        a = np.block([[np.zeros((n, n)), np.eye(n)], [-k / m[:, None], -c / m[:, None]]])
-        rho = max(rho, float(np.max(np.abs(np.linalg.eigvals(a)))))
+        rho = max(rho, float(np.max(np.abs(np.linalg.eigvals(state_matrix(k, c, mass[d0 : d0 + n]))))))
     return rho
 
 

@@ -66,12 +66,20 @@ def building_propagators(
     return phi, g0, g1, mean_rows, damping_form
 
 
-def _augmented(k: np.ndarray, c: np.ndarray, m: np.ndarray, n: int, h: float) -> np.ndarray:
-    """Â (2n + 4)² of a step h: dz/dσ = Â·z for z = (u, v, a₀, Δa), σ = t/h."""
+def state_matrix(k: np.ndarray, c: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """A = [[0, I], [−M⁻¹K, −M⁻¹C]] (2n)², 1/s, of a building with dense K, C and the diagonal
+    m of M: ẋ = A·x for x = (u, v) in free vibration."""
+    n = m.size
     a = np.zeros((2 * n, 2 * n))
     a[:n, n:] = np.eye(n)
     a[n:, :n] = -k / m[:, None]
     a[n:, n:] = -c / m[:, None]
+    return a
+
+
+def _augmented(k: np.ndarray, c: np.ndarray, m: np.ndarray, n: int, h: float) -> np.ndarray:
+    """Â (2n + 4)² of a step h: dz/dσ = Â·z for z = (u, v, a₀, Δa), σ = t/h."""
+    a = state_matrix(k, c, m)
     bmat = np.zeros((2 * n, 2))
     bmat[n::3, 0] = -1.0  # the v_x rows feel −a_X
     bmat[n + 1 :: 3, 1] = -1.0  # the v_y rows feel −a_Y
