@@ -38,16 +38,9 @@ from .interrupts import terminate_as_interrupt
 from .model import Analysis, LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
+from .solver.tunables import MAX_RERUNS, RERUN_MARGIN
 
 G = 9.80665
-
-RERUN_MARGIN = 1.25
-"""A Δt = "auto" run is repeated when a contact it met vibrates faster than the one its
-contact step followed by more than this factor (the step then up to 1.25× coarser than
-CONTACT_DT_FRACTION asks, the contact phases' second-order error up to 1.6× larger)."""
-
-MAX_RERUNS = 2
-"""Reruns at the step of the contacts met before the last, at the outlines' upper bound."""
 
 
 def _loaded(model: str | Path | LoadedModel) -> LoadedModel:

@@ -99,23 +99,13 @@ def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.nda
     only the normal law F_N = k_N·A_c at the overlap's centroid (a vanishing step, 1e-12 s:
     the midpoint rule's corrections where points touch or part scale with the step)."""
     from pounding_cli.solver import contact as kernel
-    from pounding_cli.solver.broad_phase import sweep_arrays
-    from pounding_cli.solver.integrate import bounding_boxes
+    from pounding_cli.solver.integrate import contact_state
 
     n_dof = structure.mass.size
-    c = contact
-    box = bounding_boxes(c)
-    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box)
-    params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
-              c.pair_ct, c.pair_meff)  # fmt: skip
-    n_pairs = c.pair_a.size
     u = np.zeros(n_dof + 3)
     u[:n_dof] = q
     still = np.zeros(n_dof + 3)
-    now = np.zeros((n_pairs, len(kernel.NOW_COLUMNS)))
-    forces = np.zeros(n_dof + 3)
-    kernel.contact_forces(0, 1e-12, u, still, still, geometry, params, np.zeros((n_pairs, kernel.N_STATE)), now,
-                          np.zeros((4, kernel.EV_COLUMNS)), np.zeros(1, dtype=np.int64), forces,
-                          sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, False),
-                          *kernel.buffers(int(c.body_poly.shape[1])))  # fmt: skip
+    state = contact_state(contact, n_dof, sweep=False)
+    kernel.contact_forces(0, 1e-12, u, still, still, state)
+    forces, now = state.force, state.now
     return forces[:n_dof], now

@@ -55,8 +55,7 @@ def test_a_contact_ruled_out_does_not_happen_within_the_horizon(case):
     finds the candidate pairs as testing every pair does: the same answer."""
     path, _, edit, _ = CASES[case]
     contact = _scene(path, 1.0, edit).contact
-    _, geometry, params, sweep, every = _kernel_arguments(contact)
-    work = (np.zeros((contact.body_poly.shape[1], 2)), np.zeros((contact.body_poly.shape[1], 2)))
+    _, sweep, every = _kernel_arguments(contact)
     n_dof = 3 * (contact.body_floor.max() + 1)
     rng = np.random.default_rng(17)
     ruled_out = tighter = overlapping = 0
@@ -67,14 +66,14 @@ def test_a_contact_ruled_out_does_not_happen_within_the_horizon(case):
         u[2:n_dof:3] *= 10.0  # turns of up to a few mrad: where the boxes widen most
         if _some_pair_overlaps(contact, u):
             overlapping += 1
-            assert not contact_ruled_out_within(0.0, u, v, a, geometry, params, every, *work)
+            assert not contact_ruled_out_within(0.0, u, v, a, every)
             continue
-        answer = contact_ruled_out_within(horizon, u, v, a, geometry, params, every, *work)
-        assert contact_ruled_out_within(horizon, u, v, a, geometry, params, sweep, *work) == answer, "sweep and prune"
+        answer = contact_ruled_out_within(horizon, u, v, a, every)
+        assert contact_ruled_out_within(horizon, u, v, a, sweep) == answer, "sweep and prune"
         if not answer:
             continue
         ruled_out += 1
-        tighter += contact_possible_within(horizon, u, v, a, geometry, params, every)
+        tighter += contact_possible_within(horizon, u, v, a, every)
         for tau in np.linspace(0.0, horizon, 9):
             assert not _some_pair_overlaps(contact, u + v * tau + 0.5 * a * tau**2)
     print(f"{overlapping} overlapping, {ruled_out} ruled out, {tighter} of them not by the boxes")

@@ -16,7 +16,7 @@ from pounding_cli.model import read_document, validate_model
 from pounding_cli.solver import simulate
 from pounding_cli.solver.broad_phase import pair_groups, pairs_to_visit, sweep_arrays
 from pounding_cli.solver.contact import contact_possible_within
-from pounding_cli.solver.integrate import bounding_boxes
+from pounding_cli.solver.integrate import bounding_boxes, contact_state
 
 from conftest import INPUTS
 from free_bodies import free_slabs, square
@@ -92,7 +92,8 @@ def test_pairs_are_grouped_by_level_with_an_obstacle_in_every_level_it_spans():
     groups = sorted(pair_groups(pair_a, pair_b, body_floor))
     assert groups == [[0, 3, 6], [1, 4, 7], [2, 5, 8]]
     box = np.array([[0, 0, 1, 1]] * 3 + [[2, 0, 3, 1]] * 3 + [[1, -1, 2, 0]], dtype=float)
-    starts, bodies, axes, index_start, index = sweep_arrays(pair_a, pair_b, body_floor, box, sweep=True)[:5]
+    broad = sweep_arrays(pair_a, pair_b, body_floor, box, sweep=True)
+    starts, bodies, axes, index = broad.group_start, broad.group_body, broad.group_axis, broad.index
     assert starts.tolist() == [0, 3, 6, 9] and axes.tolist() == [0, 0, 0]
     assert sorted(bodies.tolist()) == [0, 1, 2, 3, 4, 5, 6, 6, 6]
     found = sorted(int(p) for p in index if p >= 0)
@@ -100,13 +101,12 @@ def test_pairs_are_grouped_by_level_with_an_obstacle_in_every_level_it_spans():
 
 
 def _kernel_arguments(contact):
-    box = bounding_boxes(contact)
-    geometry = (contact.body_poly, contact.body_nv, contact.body_floor, contact.body_centre, contact.body_radius, box)
-    params = (contact.pair_a, contact.pair_b, contact.pair_kn, contact.pair_kt, contact.pair_mu_s, contact.pair_mu_k,
-              contact.pair_cn, contact.pair_zeta, contact.pair_ct, contact.pair_meff)  # fmt: skip
-    sweep = sweep_arrays(contact.pair_a, contact.pair_b, contact.body_floor, box, sweep=True)
-    every = sweep_arrays(contact.pair_a, contact.pair_b, contact.body_floor, box, sweep=False)
-    return box, geometry, params, sweep, every
+    """(rest boxes, the time loop's contact record with sweep and prune, the same testing
+    every pair: records.Contact)."""
+    n_dof = 3 * (int(contact.body_floor.max()) + 1)
+    sweep = contact_state(contact, n_dof, sweep=True)
+    every = contact_state(contact, n_dof, sweep=False)
+    return sweep.bodies.box, sweep, every
 
 
 def _random_states(n_dof: int, rng: np.random.Generator, count: int):
@@ -142,25 +142,25 @@ def _boxes_meet_every_pair(u, contact, box):
 def test_sweep_finds_exactly_the_pairs_whose_boxes_meet(case):
     path, _, edit, _ = CASES[case]
     contact = _scene(path, 1.0, edit).contact
-    box, geometry, _, sweep, _ = _kernel_arguments(contact)
+    box, sweep, _ = _kernel_arguments(contact)
     rng = np.random.default_rng(5)
     for u, _, _, _ in _random_states(3 * (contact.body_floor.max() + 1), rng, 400):
         if np.isnan(u).any():
             continue
-        n = pairs_to_visit(u, geometry, sweep)
-        assert sweep[7][:n].tolist() == np.flatnonzero(_boxes_meet_every_pair(u, contact, box)).tolist()
+        n = pairs_to_visit(u, sweep.bodies, sweep.broad)
+        assert sweep.broad.hits[:n].tolist() == np.flatnonzero(_boxes_meet_every_pair(u, contact, box)).tolist()
 
 
 @pytest.mark.parametrize("case", ["row of 20", "isolated, moat walls", "rotated building", "row of 5"])
 def test_contact_possible_within_gives_the_all_pairs_answer(case):
     path, _, edit, _ = CASES[case]
     contact = _scene(path, 1.0, edit).contact
-    _, geometry, params, sweep, every = _kernel_arguments(contact)
+    _, sweep, every = _kernel_arguments(contact)
     rng = np.random.default_rng(11)
     answers = []
     for u, v, a, horizon in _random_states(3 * (contact.body_floor.max() + 1), rng, 2000):
-        expected = contact_possible_within(horizon, u, v, a, geometry, params, every)
-        answer = contact_possible_within(horizon, u, v, a, geometry, params, sweep)
+        expected = contact_possible_within(horizon, u, v, a, every)
+        answer = contact_possible_within(horizon, u, v, a, sweep)
         if np.isnan(u).any():
             assert answer, "a state gone bad: assume a contact may begin (hand over to the CDM, which stops)"
         else:
@@ -176,5 +176,5 @@ def test_the_cheaper_broad_phase_is_chosen(case, sweeps):
     more); below, the all-pairs loop, which has no set-up per step."""
     path, _, edit, _ = CASES[case]
     contact = _scene(path, 1.0, edit).contact
-    groups = sweep_arrays(contact.pair_a, contact.pair_b, contact.body_floor, bounding_boxes(contact))[2]
+    groups = sweep_arrays(contact.pair_a, contact.pair_b, contact.body_floor, bounding_boxes(contact)).group_axis
     assert (groups.size > 0) == sweeps

@@ -12,9 +12,9 @@ import pytest
 from shapely import affinity
 from shapely.geometry import Polygon
 
-from pounding_cli.api import MAX_RERUNS, RERUN_MARGIN, execute, prepare
-from pounding_cli.assembly.contact import STEP_BOUND, likely_contact_line
-from pounding_cli.assembly.timestep import CONTACT_DT_FRACTION
+from pounding_cli.api import execute, prepare
+from pounding_cli.assembly.contact import likely_contact_line
+from pounding_cli.solver.tunables import CONTACT_DT_FRACTION, MAX_RERUNS, RERUN_MARGIN, STEP_BOUND
 from pounding_cli.bench.metrics import compare
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -8,7 +8,8 @@ import pytest
 
 import pounding_cli as pound
 from pounding_cli.assembly import assemble, ground_motion
-from pounding_cli.solver.peaks import CREST_DISPLACEMENT, CREST_SPAN, quintic_crests
+from pounding_cli.solver.peaks import CREST_DISPLACEMENT, quintic_crests
+from pounding_cli.solver.tunables import CREST_SPAN
 
 from test_time_history import _eccentric_case, _exact_peaks
 

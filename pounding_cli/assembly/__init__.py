@@ -4,10 +4,9 @@ from .building import BuildingArrays, ColumnLine, ColumnInstance
 from .contact import ContactArrays, PairInfo, contact_arrays, impact_stiffness
 from .ground import GroundMotion, ground_motion
 from .system import System, assemble
-from .timestep import AUTO_DT_FRACTION, TimeGrid, time_grid
+from .timestep import TimeGrid, time_grid
 
 __all__ = [
-    "AUTO_DT_FRACTION",
     "BuildingArrays",
     "ColumnInstance",
     "ColumnLine",

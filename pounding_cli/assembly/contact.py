@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..model import Contact, LoadedModel, Material
 from .building import BuildingArrays
+from ..solver.tunables import LIKELY_DEPTH, STEP_BOUND
 from .polygon import polygon_centroid
 
 LEVEL_TOLERANCE = 1e-3
@@ -249,16 +250,6 @@ def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact) -> t
         materials.append(model.materials[slab])
     auto_n, auto_t = impact_stiffness(*materials)
     return (auto_n if kn == "auto" else float(kn)), (auto_t if kt == "auto" else float(kt))
-
-
-LIKELY_DEPTH = 1e-3
-"""The overlap depth (m) at which likely_contact_line measures a pair's contact line: pounding
-with k_N of concrete (10⁹–10¹¹ N/m²) overlaps by micrometres to a few millimetres."""
-
-STEP_BOUND = 0.0125
-"""omega_step ≥ STEP_BOUND·omega_max: however soft the likely contacts, the automatic contact
-step (CONTACT_DT_FRACTION = 0.00625 of 2/omega_step) stays below half the CDM's stability
-limit 2/omega_max of the stiffest contact the outlines allow."""
 
 
 def _diameter(poly: np.ndarray) -> float:

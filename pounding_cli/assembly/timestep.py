@@ -32,48 +32,15 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Analysis
-from ..solver.integrate import APPROACH_MIN_STEPS
-from ..solver.peaks import CREST_SPAN
-
-AUTO_DT_FRACTION = 0.05
-"""Δt_auto = AUTO_DT_FRACTION · 2/ω_max for linear buildings without contact: the CDM's
-error is second order, 1e-4 on peaks at this fraction (docs/validation.md)."""
-
-CONTACT_DT_FRACTION = 0.00625
-"""Δt_auto ≤ CONTACT_DT_FRACTION · 2/ω_contact where contact is possible. The contact phase
-is second order in Δt (every event inside a step placed where it happens, docs/theory.md
-§10), but impacts amplify small differences: against a converged run the paper's Kobe
-example (25 impacts) is 0.39 % off at 0.0125, 0.081 % at 0.00625, 0.022 % at 0.003125
-(docs/bench.md, "The Kobe example"); this step keeps a margin of 6 under the 0.5 % of
-issue 5."""
-
-YIELD_DT_FRACTION = 0.0125
-"""The hybrid's CDM step while only yielding members need it: YIELD_DT_FRACTION · 2/ω_max of
-the structure. The members' law is integrated exactly along each step's chord
-(solver/hysteresis.py), so the error is second order in this step: in the inelastic bench
-scene the peaks are within 3.6e-5 of a converged CDM at 0.0125, 2.0e-4 at 0.025 and 5.8e-4 at
-0.05 (docs/bench.md, "This release"); with the closest-point return used
-before it was first order, 1.5e-3 at 0.0125."""
-
-HYBRID_SAMPLING = CREST_SPAN
-"""Exact substeps satisfy ω_max·h ≤ HYBRID_SAMPLING = 4 where no member yields: in most
-scenes a whole record interval (h must divide it: the ground acceleration is linear within a
-step). Nothing an exact step yields depends on its length: the state is exact (the matrix
-exponential), so is the work of the ground and the damping over it (solver/propagator.py),
-and so are the peaks between exact states (solver/peaks.py: the quintic through their values
-and first two rates locates each crest, the motion's Taylor series values it; that held to
-ω_max·H = 5 in random mode sums, hence 4). Substeps are taken two at once where two fit between
-record and output samples and ω_max·2h stays within it. The longer h also sets the horizon
-of the contact checks and where the CDM starts and stops. Measured against 0.4, the
-quintic's bound before the exact crests and work (docs/bench.md, "Is the default on the
-front?"): every scene without yielding members takes the same or fewer seconds at the same
-or smaller errors; the linear one 35 % fewer, the Kobe one 21 %."""
-
-YIELD_SAMPLING = 0.2
-"""ω_max·h with yielding members: their yield check looks h ahead, and a member that may
-yield within it sends the whole substep to the CDM at the yielding step, so longer substeps
-cost more CDM steps than they save (the bench's inelastic and isolated scenes are slower
-and less accurate at 0.4)."""
+from ..solver.tunables import (
+    APPROACH_MIN_STEPS,
+    AUTO_DT_FRACTION,
+    CONTACT_DT_FRACTION,
+    CREST_SPAN,
+    HYBRID_SAMPLING,
+    YIELD_DT_FRACTION,
+    YIELD_SAMPLING,
+)
 
 
 def hybrid_sampling(yielding: bool) -> float:

@@ -21,8 +21,8 @@ from ..api import Scene, prepare
 from ..model import read_document, validate_model
 from ..solver import simulate
 from ..solver.broad_phase import sweep_arrays
-from ..solver.contact import buffers, contact_forces, contact_possible_within
-from ..solver.integrate import bounding_boxes
+from ..solver.contact import contact_forces, contact_possible_within
+from ..solver.integrate import bounding_boxes, contact_state
 from .run import scene_files
 from .stability import _row
 
@@ -52,21 +52,19 @@ def _drivers():
     from numba import njit
 
     @njit
-    def contact_loop(passes, states, dt, geometry, params, state, now, events, n_events, forces, broad, v,
-                     poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame):  # fmt: skip
+    def contact_loop(passes, states, dt, contact, v):
         total = 0
         for _ in range(passes):
             for k in range(states.shape[0]):
-                total += contact_forces(k, dt, states[k], v, v, geometry, params, state, now, events, n_events,
-                                        forces, broad, poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
+                total += contact_forces(k, dt, states[k], v, v, contact)
         return total
 
     @njit
-    def horizon_loop(passes, states, horizon, geometry, params, broad, v):
+    def horizon_loop(passes, states, horizon, contact, v):
         total = 0
         for _ in range(passes):
             for k in range(states.shape[0]):
-                total += contact_possible_within(horizon, states[k], v, v, geometry, params, broad)
+                total += contact_possible_within(horizon, states[k], v, v, contact)
         return total
 
     return contact_loop, horizon_loop
@@ -103,27 +101,21 @@ def measure(name: str, scene: Scene, repeats: int = 20) -> Crossover:
     contact_loop, horizon_loop = _drivers()
     c = scene.contact
     states = _states(scene)
-    box = bounding_boxes(c)
-    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box)
-    params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
-              c.pair_ct, c.pair_meff)  # fmt: skip
     zero = np.zeros(states.shape[1])
     loops = []
     for sweep in (False, True):
-        broad = sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, sweep)
-        work = (np.zeros((c.n_pairs, 4)), np.zeros((c.n_pairs, 6)), np.zeros((10_000, 11)), np.zeros(1, np.int64),
-                np.zeros(states.shape[1]), broad, zero, *buffers(int(c.body_poly.shape[1])))  # fmt: skip
+        record = contact_state(c, states.shape[1] - 3, sweep)
 
-        def contact(passes, work=work):
-            work[3][0] = 0  # impacts logged
-            contact_loop(passes, states, DT, geometry, params, *work)
+        def contact(passes, record=record):
+            record.n_events[0] = 0  # impacts logged
+            contact_loop(passes, states, DT, record, zero)
 
-        def horizon(passes, broad=broad):
-            horizon_loop(passes, states, 2e-3, geometry, params, broad, zero)
+        def horizon(passes, record=record):
+            horizon_loop(passes, states, 2e-3, record, zero)
 
         loops += [contact, horizon]
     contact_all, horizon_all, contact_sweep, horizon_sweep = _best_ns(loops, states.shape[0], repeats)
-    members = sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, True)[1].size
+    members = sweep_arrays(c.pair_a, c.pair_b, c.body_floor, bounding_boxes(c), True).group_body.size
     return Crossover(name, c.n_pairs, members, contact_all, contact_sweep, horizon_all, horizon_sweep)
 
 

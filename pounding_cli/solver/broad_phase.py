@@ -30,18 +30,9 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
+from .records import BroadPhase
+from .tunables import SWEEP_PAIRS_PER_MEMBER
 
-SWEEP_PAIRS_PER_MEMBER = 1.5
-"""Sweep and prune replaces the all-pairs loop when the candidate pairs number at least this
-many times the group members (bodies, an obstacle counted once per level it spans). Testing a
-pair costs about 8 ns, sweeping a member about 12 ns, plus a fixed cost per step; the two
-break even near 1.4 pairs per member for the contact step and 1.7 for the hybrid's horizon
-check (docs/bench/crossover.md, `python -m pounding_cli.bench.crossover`). In a row of n
-buildings there are (n − 1)/2 pairs per member: sweep and prune from 4 buildings on."""
-
-# positions in the tuple of sweep_arrays
-(BR_GROUP_START, BR_GROUP_BODY, BR_GROUP_AXIS, BR_INDEX_START, BR_INDEX, BR_ORDER, BR_BOUNDS, BR_HITS, BR_LIVE,
- BR_N_LIVE) = range(10)  # fmt: skip
 
 # columns of the per-member bounds: lower and upper bound along the group's sweep axis, then
 # along the other axis, m
@@ -174,15 +165,13 @@ def _sort_ascending(x, n):
 
 
 @kernel(inline="always")
-def pairs_to_visit(u, geometry, broad):
+def pairs_to_visit(u, bodies, broad):
     """The pairs the contact step must visit, ascending and without repeats, into broad's
     `hits`; returns their number. They are the pairs whose displaced boxes overlap, plus the
     pairs in contact at the last step (`live`), whose episodes end when they no longer touch.
     Every other pair has no overlap now and none at the last step, so visiting it would
     change nothing."""
-    body_floor = geometry[2]
-    body_radius = geometry[4]
-    body_box = geometry[5]
+    body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
     group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
     n_hits = 0
     for g in range(group_axis.size):
@@ -204,13 +193,11 @@ def pairs_to_visit(u, geometry, broad):
 
 
 @kernel(inline="always")
-def _widened_sweep(horizon, u, v, acc, geometry, broad, first_only):
+def _widened_sweep(horizon, u, v, acc, bodies, broad, first_only):
     """Sweep and prune on the boxes widened by how far each body can move within `horizon` s:
     the pairs whose widened boxes overlap, into broad's `hits` (only the first when
     first_only); returns their number, or −1 for a state with NaN (no order to sweep)."""
-    body_floor = geometry[2]
-    body_radius = geometry[4]
-    body_box = geometry[5]
+    body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
     group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
     n_hits = 0
     for g in range(group_axis.size):
@@ -227,19 +214,19 @@ def _widened_sweep(horizon, u, v, acc, geometry, broad, first_only):
 
 
 @kernel(inline="always")
-def boxes_may_meet_within(horizon, u, v, acc, geometry, broad):
+def boxes_may_meet_within(horizon, u, v, acc, bodies, broad):
     """True when some pair's boxes, each widened by how far its body can move within `horizon`
     s, overlap (sweep and prune: the answer of testing every pair, for any state without NaN;
     True for one with NaN)."""
-    return _widened_sweep(horizon, u, v, acc, geometry, broad, True) != 0
+    return _widened_sweep(horizon, u, v, acc, bodies, broad, True) != 0
 
 
 @kernel
-def pairs_may_meet_within(horizon, u, v, acc, geometry, broad):
+def pairs_may_meet_within(horizon, u, v, acc, bodies, broad):
     """The pairs whose boxes, each widened by how far its body can move within `horizon` s,
     overlap, into broad's `hits` (sweep and prune, by group); returns their number, or −1 for
     a state with NaN (no order to sweep)."""
-    return _widened_sweep(horizon, u, v, acc, geometry, broad, False)
+    return _widened_sweep(horizon, u, v, acc, bodies, broad, False)
 
 
 def pair_groups(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray) -> list[list[int]]:
@@ -270,9 +257,8 @@ def sweep_pays(n_pairs: int, n_members: int) -> bool:
 
 
 def sweep_arrays(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray, body_box: np.ndarray,
-                 sweep: bool | None = None) -> tuple[np.ndarray, ...]:  # fmt: skip
-    """The broad phase's arrays, made once per run: (group_start, group_body, group_axis,
-    index_start, index, order, bounds, hits, live, n_live).
+                 sweep: bool | None = None) -> BroadPhase:  # fmt: skip
+    """The broad phase's record (records.BroadPhase), made once per run.
 
     group_body[group_start[g]:group_start[g + 1]] are group g's bodies; group_axis[g] its sweep
     axis (0: x, 1: y); index[index_start[g]:] its m × m local pair matrix (row-major, −1: no
@@ -289,7 +275,7 @@ def sweep_arrays(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray,
     if not sweep:
         groups = []
     sizes = [len(members) for members, _, _ in groups]
-    return (
+    return BroadPhase(
         np.cumsum([0] + sizes, dtype=np.int64),
         np.array([k for members, _, _ in groups for k in members], dtype=np.int64),
         np.array([axis for _, _, axis in groups], dtype=np.int64),

@@ -24,7 +24,8 @@ Energy (relative-motion form): E_input = ∫ v·p dt, E_damping = ∫ v·C·v dt
 
 State vectors hold n_dof + 3 entries: the last three are the ground, an extra floor whose
 DOFs stay zero and which is the bottom floor of every ground storey, so no storey is a
-special case. Everything here works on plain arrays and allocates nothing.
+special case. Everything here works on the plain arrays of the records in records.py and
+allocates nothing.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from .jit import REASSOCIATE, kernel
 from .contact import contact_forces
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
 from .peaks import update_peaks
+from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
 
 # energy columns, in the order of the HDF5 /energy dataset
 E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = range(7)
@@ -51,31 +53,23 @@ N_ACC = 12
 
 STATUS_OK, STATUS_DIVERGED, STATUS_ENERGY = 0, 1, 2
 
-ENERGY_LIMIT = 0.05
-"""A run whose energy balance error passes this fraction of the energy in play has gone
-unstable (a healthy run stays below 1e-4): it stops with STATUS_ENERGY. So does a run whose
-contacts have given out more energy than they took, by more than this fraction of the input
-(passive contacts store what they take while compressed and lose the rest to friction and
-dashpots: their account never falls below zero in a healthy run; an impact integrated with
-too long a step creates energy, and the balance, which counts the contact forces' work,
-still closes). Energies below acc[ACC_ENERGY_FLOOR] (the structure moving at 1 cm/s) are
-too small to judge."""
-
 
 @kernel(inline="always")
-def ground_at(t, ground, ground_dt):
-    """Ground acceleration (X, Y) at time t, linear between samples, zero after the record."""
-    x = t / ground_dt
+def ground_at(t, ground):
+    """Ground acceleration (X, Y) at time t, m/s², linear between samples, zero after the
+    record (ground: records.Ground)."""
+    record = ground.acceleration
+    x = t / ground.dt
     i = int(np.floor(x))
-    n = ground.shape[0]
+    n = record.shape[0]
     if i < 0 or i >= n:
         return 0.0, 0.0
     if i == n - 1:
         if x - i <= 1e-9:
-            return ground[i, 0], ground[i, 1]
+            return record[i, 0], record[i, 1]
         return 0.0, 0.0
     w = x - i
-    return (1 - w) * ground[i, 0] + w * ground[i + 1, 0], (1 - w) * ground[i, 1] + w * ground[i + 1, 1]
+    return (1 - w) * record[i, 0] + w * record[i + 1, 0], (1 - w) * record[i, 1] + w * record[i + 1, 1]
 
 
 @kernel(fastmath=REASSOCIATE)
@@ -159,12 +153,14 @@ def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
 
 
 @kernel
-def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v, out_a, out_ground,
-                 out_energy, out_contact, u_limit, e_plastic):  # fmt: skip
-    """Store the state at output sample k (ku = K·u at that instant, e_plastic what yielding
-    members change in the strain energy ½uᵀKu, hysteresis.py); returns STATUS_OK, or
-    STATUS_DIVERGED when a displacement passes u_limit or is NaN, or STATUS_ENERGY when the
-    energy balance error passes ENERGY_LIMIT of the energy in play."""
+def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plastic):
+    """Store the state at output sample k into out (records.Output; ku = K·u at that instant,
+    e_plastic what yielding members change in the strain energy ½uᵀKu, hysteresis.py);
+    returns STATUS_OK, or STATUS_DIVERGED when a displacement passes DIVERGENCE_LIMIT or is
+    NaN, or STATUS_ENERGY when the energy balance error passes ENERGY_LIMIT of the energy in
+    play."""
+    out_u, out_v, out_a, out_energy, out_contact = out.displacement, out.velocity, out.acceleration, out.energy, \
+        out.contact  # fmt: skip
     n_dof = mass.size
     e_kin = 0.0
     e_str = e_plastic
@@ -179,8 +175,8 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
             worst = np.inf
         elif abs(u[d]) > worst:
             worst = abs(u[d])
-    out_ground[k, 0] = agx
-    out_ground[k, 1] = agy
+    out.ground[k, 0] = agx
+    out.ground[k, 1] = agy
     out_energy[k, E_INPUT] = acc[ACC_INPUT]
     out_energy[k, E_KINETIC] = e_kin
     out_energy[k, E_STRAIN] = e_str
@@ -192,7 +188,7 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
     for p in range(pair_now.shape[0]):
         for c in range(pair_now.shape[1]):
             out_contact[k, p, c] = pair_now[p, c]
-    if not worst <= u_limit:
+    if not worst <= DIVERGENCE_LIMIT:
         return STATUS_DIVERGED
     in_play = max(abs(acc[ACC_INPUT]), e_kin + e_str + acc[ACC_DAMPING] + e_hyst + abs(acc[ACC_CONTACT]))
     if abs(out_energy[k, E_BALANCE]) > ENERGY_LIMIT * in_play and in_play > acc[ACC_ENERGY_FLOOR]:
@@ -202,104 +198,127 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out_u, out_v
     return STATUS_OK
 
 
-@kernel
-def advance(
-    n_start, n_stop, dt, stride, u_limit,
-    # structure
-    mass, damping, storey_k, storey_bottom, storey_top, binv, dof_start, dof_count,
-    # ground
-    ground, ground_dt,
-    # geometry for peaks
-    storey_axes, centre, col_storey, col_arm,
-    # state, carried between calls: u_n, v_{n-1/2}, K·u_n, C·v_{n-1/2}, energy accumulators
-    u, v_half, ku, cv_half, acc,
-    # peaks
-    peak_col, peak_rot, peak_disp, peak_acc,
-    # outputs at every `stride` steps
-    out_u, out_v, out_a, out_ground, out_energy, out_contact,
-    # work arrays (n_dof + 3 each, and n_storeys × 3)
-    r, dv, v, a_abs, z, cv_next, storey_work,
-    # contact: tuples of arrays (see contact.contact_forces), pair state, impact log, buffers,
-    # broad phase (broad_phase.sweep_arrays)
-    geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
-    # yielding members (hysteresis.py): parameters, plastic deflections, correction g, outputs
-    members, plastic, g, out_member, peak_member,
-):
-    """Advance steps n_start … n_stop − 1; returns (STATUS_OK, n_stop), or (status, m) for the
-    first state u_m (at t_m = m·dt) that fails a check: a displacement that passes u_limit or
-    is not finite (NaN, ±inf; a non-finite velocity or force makes it so within the step)
-    stops the run at the step that made it (STATUS_DIVERGED), checked at every step at the
-    cost of one comparison per DOF."""
+@kernel(inline="always")
+def _contact_phase(n, dt, motion, dv, contact):
+    """Contact forces at t_n from the displaced outlines into contact.force (zero without
+    candidates): broad phase, narrow phase, impact law (contact.contact_forces), with the
+    dashpots' velocity v_n ≈ v_{n−½} + Δv_{n−1}/2 (dv still holds the last step's)."""
+    contact.force[:] = 0.0
+    if contact.law.a.size > 0:
+        for d in range(motion.u.size - 3):
+            contact.v_est[d] = motion.v_half[d] + 0.5 * dv[d]
+        if contact_forces(n, dt, motion.u, motion.v_half, contact.v_est, contact) > 0:
+            motion.energy[ACC_CONTACT_STEPS] += 1.0
+
+
+@kernel(inline="always")
+def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
+    """r_n = p_n − K·u_n − C·v_{n−½} + F_contact + g; Δv_n = B⁻¹·r_n; the state at t_n
+    (v_n = v_{n−½} + Δv_n/2, a_n = Δv_n/Δt plus the ground's); v_{n+½} = v_{n−½} + Δv_n and
+    the step's one mat-vec z = K·v_{n+½}, with C·v_{n+½} from it."""
+    mass, ku, cv_half, v_half = structure.mass, motion.ku, motion.cv_half, motion.v_half
+    r, dv, v, a_abs = work.r, work.dv, work.v, work.a_abs
     n_dof = mass.size
     n_floors = n_dof // 3
-    has_members = plastic.shape[0] > 0
-    for n in range(n_start, n_stop):
-        # 1. ground input at t_n
-        agx, agy = ground_at(n * dt, ground, ground_dt)
-        # 2. internal forces K·u_n and C·v_{n-1/2} are carried in ku, cv_half
-        # 3. contact forces from the displaced outlines (broad phase, narrow phase, impact law)
-        fc[:] = 0.0
-        if params[0].size > 0:
-            for d in range(n_dof):  # v_n ≈ v_{n-1/2} + Δv_{n-1}/2 (dv still holds the last step's)
-                v_est[d] = v_half[d] + 0.5 * dv[d]
-            if contact_forces(n, dt, u, v_half, v_est, geometry, params, pair_state, pair_now, events, n_events,
-                              fc, broad, cbuf[0], cbuf[1], cbuf[2], cbuf[3], cbuf[4], cbuf[5], cbuf[6]) > 0:  # fmt: skip
-                acc[ACC_CONTACT_STEPS] += 1.0
-        # 4. residual and velocity increment
-        for f in range(n_floors):
-            d = 3 * f
-            r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
-            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
-            r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
-        solve_blocks(binv, dof_start, dof_count, r, dv)
-        # 5. state at t_n: central-difference velocity, absolute acceleration
-        for d in range(n_dof):
-            v[d] = v_half[d] + 0.5 * dv[d]
-            a_abs[d] = dv[d] / dt
-        for f in range(n_floors):
-            a_abs[3 * f] += agx
-            a_abs[3 * f + 1] += agy
-        # 6. the one mat-vec of the step: z = K·v_{n+1/2}, C·v_{n+1/2}
-        for d in range(n_dof):
-            v_half[d] += dv[d]
-        storey_matvec(v_half, storey_k, storey_bottom, storey_top, z)
-        damping_force(v_half, z, mass, damping, n_dof, cv_next)
-        # 7. energy: trapezoidal input, damping and contact work
-        p_in = 0.0
-        p_damp = 0.0
-        p_contact = 0.0
-        for f in range(n_floors):
-            p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
-        for d in range(n_dof):
-            p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
-            p_contact -= fc[d] * v[d]
-        accumulate_energy(acc, dt, p_in, p_damp, p_contact)
-        # 8. peaks at every step
-        update_peaks(u, a_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                     col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc)
-        # 9. output and divergence check
-        if n % stride == 0:
-            e_plastic = 0.0
-            if has_members:
-                member_states(u, members, plastic, n // stride, out_member, peak_member)
-                e_plastic = plastic_energy_terms(u, g, members, plastic)
-            status = write_output(n // stride, u, v, a_abs, ku, agx, agy, mass, acc, pair_now,
-                                  out_u, out_v, out_a, out_ground, out_energy, out_contact, u_limit, e_plastic)  # fmt: skip
-            if status != STATUS_OK:
-                return status, n
-        elif has_members:
-            member_states(u, members, plastic, -1, out_member, peak_member)
-        # 10. update to t_{n+1} (the ground entries stay zero); a bad value stops the run here
-        for d in range(n_dof):
-            u[d] += dt * v_half[d]
-            ku[d] += dt * z[d]
-            cv_half[d] = cv_next[d]
-            if not abs(u[d]) <= u_limit:
-                return STATUS_DIVERGED, n + 1
+    for f in range(n_floors):
+        d = 3 * f
+        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
+        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
+        r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
+    solve_blocks(step.inverse, structure.dof_start, structure.dof_count, r, dv)
+    for d in range(n_dof):
+        v[d] = v_half[d] + 0.5 * dv[d]
+        a_abs[d] = dv[d] / step.dt
+    for f in range(n_floors):
+        a_abs[3 * f] += agx
+        a_abs[3 * f + 1] += agy
+    for d in range(n_dof):
+        v_half[d] += dv[d]
+    storey_matvec(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, work.z)
+    damping_force(v_half, work.z, mass, structure.damping, n_dof, work.cv_next)
+
+
+@kernel(inline="always")
+def _step_energy(agx, agy, dt, mass, motion, work, fc):
+    """The trapezoidal step of the input, damping and contact work, from the powers at t_n
+    (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
+    v, cv_half, cv_next = work.v, motion.cv_half, work.cv_next
+    n_dof = mass.size
+    p_in = 0.0
+    p_damp = 0.0
+    p_contact = 0.0
+    for f in range(n_dof // 3):
+        p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
+    for d in range(n_dof):
+        p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
+        p_contact -= fc[d] * v[d]
+    accumulate_energy(motion.energy, dt, p_in, p_damp, p_contact)
+
+
+@kernel(inline="always")
+def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact, yielding):
+    """At an output step, the state at t_n into row n / per_output (and the members'), with the
+    divergence and energy checks (write_output); at every step the members' peaks."""
+    has_members = yielding.plastic.shape[0] > 0
+    if n % per_output == 0:
+        e_plastic = 0.0
         if has_members:
-            acc[ACC_HYSTERETIC] += update_members(u, members, plastic, g)[0]
-        if (n + 1) % stride == 0:
-            storey_matvec(u, storey_k, storey_bottom, storey_top, ku)
-            if has_members:
-                plastic_correction(members, plastic, g)
+            member_states(motion.u, yielding.law, yielding.plastic, n // per_output, yielding.history, yielding.peak)
+            e_plastic = plastic_energy_terms(motion.u, yielding.g, yielding.law, yielding.plastic)
+        return write_output(n // per_output, motion.u, work.v, work.a_abs, motion.ku, agx, agy, structure.mass,
+                            motion.energy, contact.now, out, e_plastic)  # fmt: skip
+    if has_members:
+        member_states(motion.u, yielding.law, yielding.plastic, -1, yielding.history, yielding.peak)
+    return STATUS_OK
+
+
+@kernel(inline="always")
+def _position_update(n, step, structure, motion, work, yielding):
+    """u_{n+1} = u_n + Δt·v_{n+½}, K·u_{n+1} = K·u_n + Δt·z (the ground entries stay zero),
+    C·v_{n+½} carried; the members' return map along the step; K·u and the plastic correction
+    recomputed from scratch at output steps, so that rounding cannot accumulate. False when a
+    displacement passes DIVERGENCE_LIMIT or is not finite."""
+    u, ku, cv_half = motion.u, motion.ku, motion.cv_half
+    dt = step.dt
+    for d in range(structure.mass.size):
+        u[d] += dt * motion.v_half[d]
+        ku[d] += dt * work.z[d]
+        cv_half[d] = work.cv_next[d]
+        if not abs(u[d]) <= DIVERGENCE_LIMIT:
+            return False
+    has_members = yielding.plastic.shape[0] > 0
+    if has_members:
+        motion.energy[ACC_HYSTERETIC] += update_members(u, yielding.law, yielding.plastic, yielding.g)[0]
+    if (n + 1) % step.per_output == 0:
+        storey_matvec(u, structure.storey_k, structure.storey_bottom, structure.storey_top, ku)
+        if has_members:
+            plastic_correction(yielding.law, yielding.plastic, yielding.g)
+    return True
+
+
+@kernel
+def advance(n_start, n_stop, step, structure, ground, motion, work, peaks, out, contact, yielding):
+    """Advance steps n_start … n_stop − 1 of the CDM (step: records.CdmStep); returns
+    (STATUS_OK, n_stop), or (status, m) for the first state u_m (at t_m = m·Δt) that fails a
+    check: a displacement that passes DIVERGENCE_LIMIT or is not finite (NaN, ±inf; a
+    non-finite velocity or force makes it so within the step) stops the run at the step that
+    made it (STATUS_DIVERGED), checked at every step at the cost of one comparison per DOF.
+
+    A step, in its phases: the ground input at t_n; the internal forces K·u_n and C·v_{n−½}
+    (carried from the last step); the contact forces (broad phase, narrow phase, impact law);
+    the velocity update Δv_n = B⁻¹·r_n and the state at t_n; the energy; the peaks; the
+    output; the position update to t_{n+1}."""
+    dt = step.dt
+    for n in range(n_start, n_stop):
+        agx, agy = ground_at(n * dt, ground)
+        # internal forces K·u_n and C·v_{n−½} are carried in motion.ku, motion.cv_half
+        _contact_phase(n, dt, motion, work.dv, contact)
+        _velocity_update(agx, agy, step, structure, motion, work, contact.force, yielding.g)
+        _step_energy(agx, agy, dt, structure.mass, motion, work, contact.force)
+        update_peaks(motion.u, work.a_abs, structure, work.storey_work, peaks)
+        status = _step_output(n, agx, agy, step.per_output, structure, motion, work, out, contact, yielding)
+        if status != STATUS_OK:
+            return status, n
+        if not _position_update(n, step, structure, motion, work, yielding):
+            return STATUS_DIVERGED, n + 1
     return STATUS_OK, n_stop

@@ -51,10 +51,6 @@ from __future__ import annotations
 
 import numpy as np
 from .broad_phase import (
-    BR_GROUP_AXIS,
-    BR_HITS,
-    BR_LIVE,
-    BR_N_LIVE,
     boxes_may_meet_within,
     pairs_may_meet_within,
     pairs_to_visit,
@@ -62,6 +58,8 @@ from .broad_phase import (
     reach_over,
 )
 from .jit import kernel
+from .records import ClipWork
+from .tunables import CLOSING_SAFETY
 
 from .contact_geometry import (
     AREA,
@@ -362,72 +360,201 @@ def crest(f0, f1, f2):
     return f1 - 0.25 * slope * slope / curvature
 
 
+@kernel(inline="always")
+def _pair_frame(p, u, bodies, law, clip):
+    """Narrow phase of pair p at u: (touching, displaced mass centres of A and B), with the
+    overlap and its contact frame in clip.frame when they touch. Boxes first, then bounding
+    circles about the displaced mass centres, then the clipped outlines (narrow_phase)."""
+    a = law.a[p]
+    b = law.b[p]
+    fa = bodies.floor[a]
+    fb = bodies.floor[b]
+    gax = bodies.centre[a, 0] + (u[3 * fa] if fa >= 0 else 0.0)
+    gay = bodies.centre[a, 1] + (u[3 * fa + 1] if fa >= 0 else 0.0)
+    gbx = bodies.centre[b, 0] + (u[3 * fb] if fb >= 0 else 0.0)
+    gby = bodies.centre[b, 1] + (u[3 * fb + 1] if fb >= 0 else 0.0)
+    touching = False
+    if _boxes_meet(a, b, u, bodies.floor, bodies.radius, bodies.box) and _circles_meet(
+        gax, gay, gbx, gby, bodies.radius[a] + bodies.radius[b]
+    ):
+        touching = narrow_phase(a, b, u, bodies.poly, bodies.nv, bodies.floor, bodies.centre, gax, gay, gbx, gby,
+                                clip.poly_a, clip.poly_b, clip.clip, clip.clip_label, clip.tmp, clip.tmp_label,
+                                clip.frame)  # fmt: skip
+    return touching, gax, gay, gbx, gby
+
+
+@kernel(inline="always")
+def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
+    """Pair p no longer touches: close its episode (if one was open), with what the midpoint
+    rule missed of its parting (_add_parting, without a dashpot), and reset its state."""
+    state, now, events, law = contact.state, contact.now, contact.events, contact.law
+    if not state[p, ST_ACTIVE] > 0:
+        return
+    a = law.a[p]
+    b = law.b[p]
+    fa = contact.bodies.floor[a]
+    fb = contact.bodies.floor[b]
+    if _undamped(law.c_n[p], law.zeta[p]):  # (with a dashpot the force ends where its pull cancels)
+        g_now, g_before = gaps_along_step(a, b, dt, u, v_half, contact.bodies, contact.clip.poly_a,
+                                          contact.clip.poly_b)  # fmt: skip
+        _add_parting(p, g_now - g_before, law.k_n[p], law.mu_s[p], law.mu_k[p], fa, fb, gax, gay, gbx, gby, dt,
+                     state, now, events, contact.force)  # fmt: skip
+    e = int(state[p, ST_EVENT])
+    if e < events.shape[0]:
+        events[e, EV_T_END] = t_now
+    state[p, ST_ACTIVE] = 0.0
+    state[p, ST_FT] = 0.0
+    state[p, ST_SLIP] = 0.0
+    state[p, ST_FX] = 0.0
+    state[p, ST_FY] = 0.0
+    for k in range(now.shape[1]):
+        now[p, k] = 0.0
+
+
+@kernel(inline="always")
+def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
+    """F_N = k_N·A_c + c_N·s of pair p, never pulling (N): the dashpot (c_N, or 2ζ√(k_N·L·m))
+    weighted by share + ½ at an episode's first step (module docstring); where its pull
+    cancels the spring, the force ends within the step (_add_end_impulse)."""
+    law, state, now, frame = contact.law, contact.state, contact.now, contact.clip.frame
+    damping = law.c_n[p]
+    if law.zeta[p] > 0.0:
+        damping += 2.0 * law.zeta[p] * np.sqrt(law.k_n[p] * frame[LENGTH] * law.m_eff[p])
+    if share < 1.0:
+        damping *= share + 0.5  # its impulse since the touch (module docstring)
+    f_n = law.k_n[p] * frame[AREA] - damping * v_n
+    if f_n < 0.0:  # the dashpot's pull cancels the spring: the force fell to zero within the step
+        if state[p, ST_ACTIVE] > 0:
+            fa = contact.bodies.floor[law.a[p]]
+            fb = contact.bodies.floor[law.b[p]]
+            _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
+                             gay, gbx, gby, dt, state, now, contact.events, contact.force)  # fmt: skip
+        f_n = 0.0
+    return f_n
+
+
+@kernel(inline="always")
+def _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact):
+    """Pair p's friction: the incremental spring F_T − k_T·Δu_T (from where stick began at an
+    episode's first step, _stick_since_touch), its dashpot, and Coulomb's stick/slip with the
+    switches placed inside the step (_stick_shortfall, _kinetic_shortfall). Returns (the
+    spring's new force, the total tangential force on B along t, slipping), N."""
+    law, state, now, frame = contact.law, contact.state, contact.now, contact.clip.frame
+    k_n, mu_s, mu_k = law.k_n[p], law.mu_s[p], law.mu_k[p]
+    area = frame[AREA]
+    spring = state[p, ST_FT] - law.k_t[p] * slip_t
+    if state[p, ST_ACTIVE] == 0 and f_n > 0.0 and area > 0.0:  # where stick began (_stick_since_touch)
+        spring = _stick_since_touch(spring, f_n, mu_k, state[p, ST_DEEPEST] * frame[LENGTH] / area)
+    trial = spring - law.c_t[p] * v_t
+    slipping = state[p, ST_SLIP] > 0
+    if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
+        held = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k, now[p, NOW_FN], f_n,
+                                -k_n * frame[LENGTH] * v_n * dt)  # fmt: skip
+        if held < 0.0 and abs(trial) + held <= mu_k * f_n:
+            sign = 1.0 if trial > 0 else -1.0
+            spring += sign * held
+            trial += sign * held
+            slipping = False
+    limit = mu_k * f_n if slipping else mu_s * f_n
+    if abs(trial) > limit:
+        sign = 1.0 if trial > 0 else -1.0
+        spring = sign * mu_k * f_n
+        if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
+            trial = spring + sign * _kinetic_shortfall(abs(now[p, NOW_FT]) - mu_s * now[p, NOW_FN],
+                                                       abs(trial) - limit, now[p, NOW_FN], f_n, mu_s,
+                                                       mu_k)  # fmt: skip
+        else:
+            trial = spring
+        slipping = True
+    elif slipping and abs(trial) <= mu_k * f_n:
+        slipping = False
+    return spring, trial, slipping
+
+
+@kernel(inline="always")
+def _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact):
+    """Pair p's row of the impact log: opened at an episode's first step; its impulse, its
+    peak normal force (the crest through the last three steps, crest) with the action point,
+    friction and normal there, and its largest area, depth and contact line."""
+    state, events, n_events, frame = contact.state, contact.events, contact.n_events, contact.clip.frame
+    if state[p, ST_ACTIVE] == 0:
+        state[p, ST_ACTIVE] = 1.0
+        state[p, ST_FN1] = 0.0
+        state[p, ST_FN2] = 0.0
+        state[p, ST_EVENT] = n_events[0]
+        if n_events[0] < events.shape[0]:
+            row = n_events[0]
+            for k in range(EV_COLUMNS):
+                events[row, k] = 0.0
+            events[row, EV_PAIR] = p
+            events[row, EV_T_START] = t_now
+            events[row, EV_T_END] = np.nan
+            events[row, EV_PEAK_FN] = -1.0  # below any F_N: the first step sets the peak's values
+        n_events[0] += 1
+    e = int(state[p, ST_EVENT])
+    if e < events.shape[0]:
+        events[e, EV_IMPULSE] += (f_n + missed) * dt
+        if f_n > events[e, EV_PEAK_FN]:
+            events[e, EV_PEAK_FN] = f_n
+            events[e, EV_X] = frame[CX]
+            events[e, EV_Y] = frame[CY]
+            events[e, EV_T_PEAK] = t_now
+            events[e, EV_FT_PEAK] = f_t
+            events[e, EV_NX] = frame[NX]
+            events[e, EV_NY] = frame[NY]
+        f_last = state[p, ST_FN1]
+        if state[p, ST_FN2] > 0.0 and state[p, ST_FN2] <= f_last >= f_n:  # the last step was a crest
+            events[e, EV_PEAK_FN] = max(events[e, EV_PEAK_FN], crest(state[p, ST_FN2], f_last, f_n))
+        if frame[AREA] > events[e, EV_PEAK_AREA]:
+            events[e, EV_PEAK_AREA] = frame[AREA]
+        if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:
+            events[e, EV_PEAK_DEPTH] = frame[DEPTH]
+        if frame[LENGTH] > events[e, EV_PEAK_LENGTH]:
+            events[e, EV_PEAK_LENGTH] = frame[LENGTH]
+        if slipping:
+            events[e, EV_SLID] = 1.0
+    state[p, ST_FN2] = state[p, ST_FN1]
+    state[p, ST_FN1] = f_n
+
+
 @kernel
-def contact_forces(
-    n, dt, u, v_half, v_est, geometry, params, state, now, events, n_events, forces, broad, poly_a, poly_b, clip,
-    clip_label, tmp, tmp_label, frame,
-):
-    """Contact forces at step n: adds them to `forces` (n_dof + 3).
+def contact_forces(n, dt, u, v_half, v_est, contact):
+    """Contact forces at step n: adds them to contact.force (n_dof + 3), N and N·m.
 
     u = u_n; v_half = v_{n−½} (so Δt·v_half is the displacement since the last step, which
     drives the tangential spring); v_est ≈ v_n = v_{n−½} + ½Δv_{n−1}, a second-order
-    estimate of the velocity for the dashpots.
+    estimate of the velocity for the dashpots. contact: records.Contact.
 
-    geometry = (body_poly, body_nv, body_floor, body_centre, body_radius, body_box) with body_box
-    (n_bodies, 4) the outlines' bounding boxes at rest (x_min, y_min, x_max, y_max);
-    params = (pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff);
-    broad = broad_phase.sweep_arrays(…): with groups, only the pairs sweep and prune returns
-    (and those in contact at the last step) are visited; without, every pair. Either way the
-    pairs are visited in ascending order, so forces add up in the same order, bit for bit.
-    Returns the number of pairs in contact, also left in broad's n_live.
+    Phases, pair by pair: broad phase (with sweep and prune, only the pairs whose boxes
+    overlap and those in contact at the last step are visited; without, every pair: either
+    way in ascending order, so forces add up in the same order, bit for bit), narrow phase
+    (the overlap and its frame), and for a pair in contact the impact law: relative motion at
+    the action point, normal force, the kinks of the touch, tangential force, the forces on
+    both bodies, the kinks of the parting, the impact log. Returns the number of pairs in
+    contact, also left in the broad phase's n_live.
     """
-    body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
-    pair_a, pair_b, k_n, k_t, mu_s, mu_k, c_n, zeta, c_t, m_eff = params
-    hits = broad[BR_HITS]
-    live = broad[BR_LIVE]
-    n_live = broad[BR_N_LIVE]
-    sweeping = broad[BR_GROUP_AXIS].size > 0
-    visits = pairs_to_visit(u, geometry, broad) if sweeping else pair_a.size
+    bodies, law, broad, state, now, forces = contact.bodies, contact.law, contact.broad, contact.state, \
+        contact.now, contact.force  # fmt: skip
+    frame = contact.clip.frame
+    sweeping = broad.group_axis.size > 0
+    # broad phase: the pairs whose displaced boxes may overlap
+    visits = pairs_to_visit(u, bodies, broad) if sweeping else law.a.size
     t_now = n * dt
     in_contact = 0
     for i in range(visits):
-        p = hits[i] if sweeping else i
-        a = pair_a[p]
-        b = pair_b[p]
-        fa = body_floor[a]
-        fb = body_floor[b]
-        # broad phase: displaced mass centres against bounding circles
-        gax = body_centre[a, 0] + (u[3 * fa] if fa >= 0 else 0.0)
-        gay = body_centre[a, 1] + (u[3 * fa + 1] if fa >= 0 else 0.0)
-        gbx = body_centre[b, 0] + (u[3 * fb] if fb >= 0 else 0.0)
-        gby = body_centre[b, 1] + (u[3 * fb + 1] if fb >= 0 else 0.0)
-        touching = False
-        if _boxes_meet(a, b, u, body_floor, body_radius, body_box) and _circles_meet(
-            gax, gay, gbx, gby, body_radius[a] + body_radius[b]
-        ):
-            touching = narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay, gbx, gby,
-                                    poly_a, poly_b, clip, clip_label, tmp, tmp_label, frame)  # fmt: skip
+        p = broad.hits[i] if sweeping else i
+        # narrow phase: boxes, circles, the clipped overlap and its frame
+        touching, gax, gay, gbx, gby = _pair_frame(p, u, bodies, law, contact.clip)
         if not touching:
-            if state[p, ST_ACTIVE] > 0:  # the episode ends (now holds values only during one)
-                if _undamped(c_n[p], zeta[p]):  # (with a dashpot the force ends where its pull cancels)
-                    g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
-                    _add_parting(p, g_now - g_before, k_n[p], mu_s[p], mu_k[p], fa, fb, gax, gay, gbx, gby, dt,
-                                 state, now, events, forces)  # fmt: skip
-                e = int(state[p, ST_EVENT])
-                if e < events.shape[0]:
-                    events[e, EV_T_END] = t_now
-                state[p, ST_ACTIVE] = 0.0
-                state[p, ST_FT] = 0.0
-                state[p, ST_SLIP] = 0.0
-                state[p, ST_FX] = 0.0
-                state[p, ST_FY] = 0.0
-                for k in range(now.shape[1]):
-                    now[p, k] = 0.0
+            _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact)
             continue
         if sweeping:
-            live[in_contact] = p
+            broad.live[in_contact] = p
         in_contact += 1
-        area = frame[AREA]
+        a = law.a[p]
+        b = law.b[p]
+        fa = bodies.floor[a]
+        fb = bodies.floor[b]
         cx = frame[CX]
         cy = frame[CY]
         nx = frame[NX]
@@ -444,7 +571,7 @@ def contact_forces(
         closed_turn = dt * ((v_half[3 * fb + 2] if fb >= 0 else 0.0) - (v_half[3 * fa + 2] if fa >= 0 else 0.0))
         share = 1.0  # of the last step spent in contact; below 1 only at an episode's first step
         if state[p, ST_ACTIVE] == 0:
-            g_now, g_before = gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b)
+            g_now, g_before = gaps_along_step(a, b, dt, u, v_half, bodies, contact.clip.poly_a, contact.clip.poly_b)
             share = share_since_crossing(g_now, g_before)
             slip_t *= share
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_est)
@@ -453,59 +580,24 @@ def contact_forces(
         v_t = (vbx - vax) * tx + (vby - vay) * ty
         turn = (v_est[3 * fb + 2] if fb >= 0 else 0.0) - (v_est[3 * fa + 2] if fa >= 0 else 0.0)
         # normal force: overlap-area spring and dashpot, never pulling
-        damping = c_n[p]
-        if zeta[p] > 0.0:
-            damping += 2.0 * zeta[p] * np.sqrt(k_n[p] * frame[LENGTH] * m_eff[p])
-        undamped = _undamped(c_n[p], zeta[p])
-        if share < 1.0:
-            damping *= share + 0.5  # its impulse since the touch (module docstring)
-        f_n = k_n[p] * area - damping * v_n
-        if f_n < 0.0:  # the dashpot's pull cancels the spring: the force fell to zero within the step
-            if state[p, ST_ACTIVE] > 0:
-                _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
-                                 gay, gbx, gby, dt, state, now, events, forces)  # fmt: skip
-            f_n = 0.0
+        f_n = _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact)
+        undamped = _undamped(law.c_n[p], law.zeta[p])
         # the overlap's depth along the contact line, and the points that touched within the last
         # step (their impulse is added below)
         missed = 0.0
         arm = 0.0
         rest = state[p, ST_REST:]
         n_profile = 0
+        tmp = contact.clip.tmp
         if f_n > 0.0:
-            n_profile, state[p, ST_DEEPEST] = depth_profile(clip, int(frame[FRAME_VERTICES]), nx, ny, tx, ty, cx,
-                                                            cy, tmp)  # fmt: skip
-            missed, arm = _shallow_impulse(tmp, n_profile, k_n[p], closed, closed_turn, state[p, ST_ACTIVE] == 0,
+            n_profile, state[p, ST_DEEPEST] = depth_profile(contact.clip.clip, int(frame[FRAME_VERTICES]), nx, ny,
+                                                            tx, ty, cx, cy, tmp)  # fmt: skip
+            missed, arm = _shallow_impulse(tmp, n_profile, law.k_n[p], closed, closed_turn, state[p, ST_ACTIVE] == 0,
                                            rest)  # fmt: skip
         # tangential force: incremental spring, dashpot, Coulomb stick/slip
-        spring = state[p, ST_FT] - k_t[p] * slip_t
-        if state[p, ST_ACTIVE] == 0 and f_n > 0.0 and area > 0.0:  # where stick began (_stick_since_touch)
-            spring = _stick_since_touch(spring, f_n, mu_k[p], state[p, ST_DEEPEST] * frame[LENGTH] / area)
-        trial = spring - c_t[p] * v_t
-        slipping = state[p, ST_SLIP] > 0
-        if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
-            held = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k[p], now[p, NOW_FN], f_n,
-                                    -k_n[p] * frame[LENGTH] * v_n * dt)  # fmt: skip
-            if held < 0.0 and abs(trial) + held <= mu_k[p] * f_n:
-                sign = 1.0 if trial > 0 else -1.0
-                spring += sign * held
-                trial += sign * held
-                slipping = False
-        limit = mu_k[p] * f_n if slipping else mu_s[p] * f_n
-        if abs(trial) > limit:
-            sign = 1.0 if trial > 0 else -1.0
-            spring = sign * mu_k[p] * f_n
-            if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
-                trial = spring + sign * _kinetic_shortfall(abs(now[p, NOW_FT]) - mu_s[p] * now[p, NOW_FN],
-                                                           abs(trial) - limit, now[p, NOW_FN], f_n, mu_s[p],
-                                                           mu_k[p])  # fmt: skip
-            else:
-                trial = spring
-            slipping = True
-        elif slipping and abs(trial) <= mu_k[p] * f_n:
-            slipping = False
+        spring, f_t, slipping = _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact)
         state[p, ST_FT] = spring
         state[p, ST_SLIP] = 1.0 if slipping else 0.0
-        f_t = trial
         # forces on B (+) and A (−) at the action point
         fx = f_n * nx + f_t * tx
         fy = f_n * ny + f_t * ty
@@ -517,8 +609,8 @@ def contact_forces(
         # within the next (without a dashpot: with one, the force ends where its pull cancels)
         if f_n > 0.0:
             if undamped:  # parting within the next step, its closing speed grown by this force's push
-                opening = dt * (v_n + 0.5 * dt * f_n / m_eff[p])
-                out, arm_out = _shallow_impulse(tmp, n_profile, k_n[p], opening, -dt * turn, False, rest)
+                opening = dt * (v_n + 0.5 * dt * f_n / law.m_eff[p])
+                out, arm_out = _shallow_impulse(tmp, n_profile, law.k_n[p], opening, -dt * turn, False, rest)
                 if out > 0.0:
                     arm = (missed * arm + out * arm_out) / (missed + out)
                     missed += out
@@ -534,57 +626,19 @@ def contact_forces(
         state[p, ST_NY] = ny
         now[p, NOW_FN] = f_n
         now[p, NOW_FT] = f_t
-        now[p, NOW_AREA] = area
+        now[p, NOW_AREA] = frame[AREA]
         now[p, NOW_X] = cx
         now[p, NOW_Y] = cy
         now[p, NOW_DEPTH] = frame[DEPTH]
-        # impact log
-        if state[p, ST_ACTIVE] == 0:
-            state[p, ST_ACTIVE] = 1.0
-            state[p, ST_FN1] = 0.0
-            state[p, ST_FN2] = 0.0
-            state[p, ST_EVENT] = n_events[0]
-            if n_events[0] < events.shape[0]:
-                row = n_events[0]
-                for k in range(EV_COLUMNS):
-                    events[row, k] = 0.0
-                events[row, EV_PAIR] = p
-                events[row, EV_T_START] = t_now
-                events[row, EV_T_END] = np.nan
-                events[row, EV_PEAK_FN] = -1.0  # below any F_N: the first step sets the peak's values
-            n_events[0] += 1
-        e = int(state[p, ST_EVENT])
-        if e < events.shape[0]:
-            events[e, EV_IMPULSE] += (f_n + missed) * dt
-            if f_n > events[e, EV_PEAK_FN]:
-                events[e, EV_PEAK_FN] = f_n
-                events[e, EV_X] = cx
-                events[e, EV_Y] = cy
-                events[e, EV_T_PEAK] = t_now
-                events[e, EV_FT_PEAK] = f_t
-                events[e, EV_NX] = nx
-                events[e, EV_NY] = ny
-            f_last = state[p, ST_FN1]
-            if state[p, ST_FN2] > 0.0 and state[p, ST_FN2] <= f_last >= f_n:  # the last step was a crest
-                events[e, EV_PEAK_FN] = max(events[e, EV_PEAK_FN], crest(state[p, ST_FN2], f_last, f_n))
-            if area > events[e, EV_PEAK_AREA]:
-                events[e, EV_PEAK_AREA] = area
-            if frame[DEPTH] > events[e, EV_PEAK_DEPTH]:
-                events[e, EV_PEAK_DEPTH] = frame[DEPTH]
-            if frame[LENGTH] > events[e, EV_PEAK_LENGTH]:
-                events[e, EV_PEAK_LENGTH] = frame[LENGTH]
-            if slipping:
-                events[e, EV_SLID] = 1.0
-        state[p, ST_FN2] = state[p, ST_FN1]
-        state[p, ST_FN1] = f_n
-    n_live[0] = in_contact
+        _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact)
+    broad.n_live[0] = in_contact
     return in_contact
 
 
-def buffers(n_vertices: int) -> tuple[np.ndarray, ...]:
+def buffers(n_vertices: int) -> ClipWork:
     """Work buffers of contact_forces for bodies of at most n_vertices vertices."""
     clip_rows = 2 * n_vertices + 2
-    return (
+    return ClipWork(
         np.zeros((n_vertices, 2)),
         np.zeros((n_vertices, 2)),
         np.zeros((clip_rows, 2)),
@@ -608,15 +662,16 @@ def _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_
 
 
 @kernel
-def contact_possible_within(horizon, u, v, acc, geometry, params, broad):
+def contact_possible_within(horizon, u, v, acc, contact):
     """True when some pair's bounding boxes, each widened by how far its body can move within
     `horizon` s (velocity and acceleration now), overlap: a contact may begin that soon.
     With broad's groups by sweep and prune, else by testing every pair (the same answer)."""
-    if broad[BR_GROUP_AXIS].size > 0:
-        return boxes_may_meet_within(horizon, u, v, acc, geometry, broad)
-    body_poly, body_nv, body_floor, body_centre, body_radius, body_box = geometry
-    pair_a = params[0]
-    pair_b = params[1]
+    bodies, broad = contact.bodies, contact.broad
+    if broad.group_axis.size > 0:
+        return boxes_may_meet_within(horizon, u, v, acc, bodies, broad)
+    body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
+    pair_a = contact.law.a
+    pair_b = contact.law.b
     for p in range(pair_a.size):
         if _widened_boxes_meet(pair_a[p], pair_b[p], u, v, acc, horizon, body_floor, body_radius, body_box):
             return True
@@ -695,21 +750,21 @@ def _signed_gap(p, n_p, q, n_q):
 
 
 @kernel(inline="always")
-def _outline_gap(a, b, u, v, back, geometry, poly_a, poly_b):
+def _outline_gap(a, b, u, v, back, bodies, poly_a, poly_b):
     """_signed_gap of bodies a and b displaced to u − back·v (back s before, at velocity v),
     m; their outlines are left in poly_a, poly_b."""
-    body_poly, body_nv, body_floor, body_centre = geometry[0], geometry[1], geometry[2], geometry[3]
+    body_poly, body_nv, body_floor, body_centre = bodies.poly, bodies.nv, bodies.floor, bodies.centre
     _deform_before(a, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_a)
     _deform_before(b, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_b)
     return _signed_gap(poly_a, body_nv[a], poly_b, body_nv[b])
 
 
 @kernel
-def gaps_along_step(a, b, dt, u, v_half, geometry, poly_a, poly_b):
+def gaps_along_step(a, b, dt, u, v_half, bodies, poly_a, poly_b):
     """The signed gaps of bodies a and b now and a step ago along the CDM's straight path
     (u − Δt·v_{n−½}), m (_signed_gap: minus the depth where they overlap)."""
-    now = _outline_gap(a, b, u, v_half, 0.0, geometry, poly_a, poly_b)
-    before = _outline_gap(a, b, u, v_half, dt, geometry, poly_a, poly_b)
+    now = _outline_gap(a, b, u, v_half, 0.0, bodies, poly_a, poly_b)
+    before = _outline_gap(a, b, u, v_half, dt, bodies, poly_a, poly_b)
     return now, before
 
 
@@ -728,30 +783,27 @@ def share_since_crossing(now, before):
     return min(1.0, now / (now - before))
 
 
-CLOSING_SAFETY = 2.0
-"""contact_ruled_out_within doubles what two outlines can close (_pair_closing): it takes
-the accelerations of the instant as bounds, and they change within the horizon."""
-
-
 @kernel
-def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a, poly_b):
+def contact_ruled_out_within(horizon, u, v, acc, contact):
     """True when no pair can touch within `horizon` s: for every pair whose widened bounding
     boxes may meet (as contact_possible_within finds them), the gap between the displaced
     outlines (a lower bound by separating axes: the largest gap between their projections on
     any edge normal) exceeds CLOSING_SAFETY × what they can close in that time
     (_pair_closing). Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
     hybrid's approach levels use it to step exactly up to a few CDM steps before an impact."""
-    body_floor, body_radius, body_box = geometry[2], geometry[4], geometry[5]
-    pair_a = params[0]
-    pair_b = params[1]
-    sweeping = broad[BR_GROUP_AXIS].size > 0
+    bodies, broad = contact.bodies, contact.broad
+    body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
+    pair_a = contact.law.a
+    pair_b = contact.law.b
+    poly_a, poly_b = contact.clip.poly_a, contact.clip.poly_b
+    sweeping = broad.group_axis.size > 0
     if sweeping:
-        candidates = pairs_may_meet_within(horizon, u, v, acc, geometry, broad)
+        candidates = pairs_may_meet_within(horizon, u, v, acc, bodies, broad)
         if candidates < 0:
             return False  # a state gone bad: the CDM takes over and stops the run
     else:
         candidates = pair_a.size
-    hits = broad[BR_HITS]
+    hits = broad.hits
     for i in range(candidates):
         p = hits[i] if sweeping else i
         a = pair_a[p]
@@ -759,7 +811,7 @@ def contact_ruled_out_within(horizon, u, v, acc, geometry, params, broad, poly_a
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
             continue
         closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
-        gap = _outline_gap(a, b, u, v, 0.0, geometry, poly_a, poly_b)
+        gap = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
         if not gap > closing:  # (NaN: possible)
             return False
     return True

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import numpy as np
 from .jit import kernel
+from .tunables import NEAR_SLOPE, SHALLOW_MARGIN
 
 # contact_frame's result vector
 AREA, CX, CY, P1X, P1Y, P2X, P2Y, NX, NY, TX, TY, DEPTH, LENGTH, N_CROSSINGS = range(14)
@@ -61,10 +62,6 @@ REL_TOL = 1e-12
 """Geometric tolerance relative to the polygons' size (see tolerance)."""
 ROUNDING = 4 * 2.220446049250313e-16
 """Rounding floor of a coordinate difference, relative to the coordinates' magnitude."""
-NEAR_SLOPE = 0.1
-"""An overlap edge counts as nearly shared with a line of the other polygon when both its
-endpoints lie closer to the line than this fraction of its length (about 6°) and than the
-overlap's mean thickness; see _share."""
 
 
 def clip_rows(na: int, nb: int) -> int:
@@ -734,13 +731,6 @@ def kink_impulse(fall, share):
 def _kinked(e, r):
     """kink_impulse of a point of depth e whose depth changes by r over a step, per k·Δt."""
     return kink_impulse(r, e / r) if r > 0.0 else 0.0
-
-
-SHALLOW_MARGIN = 1.25
-"""shallow_moments skips an overlap whose ends are deeper than this many times the step's
-rate: none of it touched within the last step or can part within the next (the rate of the
-next is a prediction; an overlap that parts after all though deeper than this is counted
-nowhere)."""
 
 
 @kernel

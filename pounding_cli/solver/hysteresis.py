@@ -36,6 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
+from .tunables import PLASTIC_SUBSTEP
 
 
 @kernel(inline="always")
@@ -66,11 +67,6 @@ def scatter_member(m, fx, fy, bottom, top, arm_b, arm_t, axes, out):
     out[b] -= gx
     out[b + 1] -= gy
     out[b + 2] -= arm_b[m, 0] * gy - arm_b[m, 1] * gx
-
-
-PLASTIC_SUBSTEP = 0.05
-"""The elliptical flow with unequal axes is integrated by RK4 in pieces of at most this
-normalised path length |r|·Δs times the axes' ratio max(a)/min(a) (the flow's fastest rate)."""
 
 
 @kernel(inline="always")
@@ -227,7 +223,7 @@ def plastic_correction(members, plastic, g):
 @kernel
 def plastic_energy_terms(u, g, members, plastic):
     """−uᵀg + ½·Σ k_h ⊙ p²: what the plastic deflections change in the strain energy ½uᵀKu, J."""
-    kh = members[6]
+    kh = members.kh
     e = 0.0
     for d in range(u.size):
         e -= u[d] * g[d]

@@ -17,11 +17,38 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
-from .peaks import CREST_MARGIN, CREST_SPAN, KEPT_ROWS, between_arrays, crest_arrays, crest_series_order
+from .peaks import KEPT_ROWS, between_arrays, crest_arrays, crest_series_order
 from .propagator import building_propagators, state_matrix
-
-DIVERGENCE_LIMIT = 100.0
-"""A relative displacement beyond this many metres means the run has diverged."""
+from .records import (
+    Bodies,
+    CdmStep,
+    Contact,
+    Crests,
+    Damping,
+    Exact,
+    Ground,
+    MemberLaw,
+    Motion,
+    Output,
+    PairLaw,
+    Peaks,
+    Progress,
+    Propagator,
+    Propagators,
+    Structure,
+    Substeps,
+    Work,
+    Yielding,
+)
+from .tunables import (
+    APPROACH_MEMORY,
+    APPROACH_MIN_STEPS,
+    CREST_MARGIN,
+    CREST_SPAN,
+    DIVERGENCE_LIMIT,
+    ENERGY_FLOOR_SPEED,
+    ENERGY_LIMIT,
+)
 
 
 class StructureArrays(Protocol):
@@ -119,13 +146,20 @@ class NoDampingLinks:
         self.top = np.zeros(0, dtype=np.int64)
 
 
-def damping_arrays(structure: StructureArrays) -> tuple:
-    """The damping tuple of the compiled loop (cdm.damping_force): a0, a1 per DOF, the link
+def damping_arrays(structure: StructureArrays) -> Damping:
+    """The damping record of the compiled loop (cdm.damping_force): a0, a1 per DOF, the link
     matrices and their floors, bottoms on the ground mapped to the extra zero floor."""
     links = getattr(structure, "damping_links", None) or NoDampingLinks()
     bottom = np.where(links.bottom < 0, structure.mass.size // 3, links.bottom).astype(np.int64)
-    return structure.dof_a0, structure.dof_a1, np.ascontiguousarray(links.matrix, dtype=float), bottom, links.top
+    return Damping(structure.dof_a0, structure.dof_a1, np.ascontiguousarray(links.matrix, dtype=float), bottom,
+                   links.top)  # fmt: skip
 
+
+CHUNK_SECONDS = 0.05
+"""The time loop runs in calls of about this many seconds at most (beyond the first chunk):
+progress is shown and Ctrl-C honoured between calls, and each call costs some tens of µs to
+dispatch its arguments. Chunks double while calls are shorter than half of it; they do not
+change the results (tests/test_bit_for_bit.py runs a scene in one-sample chunks too)."""
 
 MAX_EVENTS = 200_000
 """Contact episodes logged at most; more are counted but not stored."""
@@ -316,10 +350,11 @@ def simulate(
     n_storeys = structure.storey_k.shape[0]
     n_out = n_steps // stride + 1
     binv, starts, counts = step_matrices(structure, dt)
-    bottom = ground_as_floor(structure)
     centre, col_arm = peak_geometry(structure)
-    u = np.zeros(n_dof + 3)
-    ku = np.zeros(n_dof + 3)
+    frame = Structure(structure.mass, damping_arrays(structure), structure.storey_k, ground_as_floor(structure),
+                      structure.storey_top, starts, counts, structure.storey_axes, centre, structure.column_storey,
+                      col_arm)  # fmt: skip
+    record = Ground(ground, ground_dt)
     # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
     v0 = np.zeros(n_dof + 3)
     if initial_velocity is not None:
@@ -331,98 +366,53 @@ def simulate(
     a0[:n_dof] -= c_v0[:n_dof] / structure.mass
     v_half = v0 - 0.5 * dt * a0
     v_half[n_dof:] = 0.0
-    cv_half = damping_times(structure, v_half)
     acc = np.zeros(cdm.N_ACC)
     acc[cdm.ACC_FRESH] = 1.0
-    acc[cdm.ACC_ENERGY_FLOOR] = 0.5 * float(structure.mass[0::3].sum()) * 0.01**2  # at 1 cm/s
+    acc[cdm.ACC_ENERGY_FLOOR] = 0.5 * float(structure.mass[0::3].sum()) * ENERGY_FLOOR_SPEED**2
     acc[cdm.ACC_INPUT] = 0.5 * float(np.sum(structure.mass * v0[:n_dof] ** 2))  # an initial motion's energy
-    n_col = structure.column_storey.size
-    peaks = (np.zeros((n_col, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
-    outs = [np.full((n_out, n_dof), np.nan) for _ in range(3)]
-    out_ground = np.full((n_out, 2), np.nan)
-    out_energy = np.full((n_out, 7), np.nan)
-    work = [np.zeros(n_dof + 3) for _ in range(6)] + [np.zeros((n_storeys, 3))]
-    mem = getattr(structure, "members", None) or NoMembers()
-    n_members = mem.top.size
-    member_bottom = np.where(mem.bottom < 0, n_dof // 3, mem.bottom).astype(np.int64)
-    members = (member_bottom, mem.top, mem.arm_bottom, mem.arm_top, mem.axes, mem.k0, mem.kh, mem.fh, mem.coupled)
-    plastic = np.zeros((n_members, 4))  # p_x, p_y; δ_x, δ_y at the last return map
-    g = np.zeros(n_dof + 3)
-    out_member = np.full((n_out if n_members else 0, n_members, 4), np.nan)
-    peak_member = np.zeros((n_members, 6))
+    motion = Motion(np.zeros(n_dof + 3), v_half, np.zeros(n_dof + 3), damping_times(structure, v_half), acc)
+    work = Work(*(np.zeros(n_dof + 3) for _ in range(6)), np.zeros((n_storeys, 3)))
+    peaks = Peaks(np.zeros((structure.column_storey.size, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
     c = contact if contact is not None else NoContact()
-    box = bounding_boxes(c)
-    geometry = (c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box)
-    params = (c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta,
-              c.pair_ct, c.pair_meff)  # fmt: skip
     n_pairs = c.pair_a.size
-    pair_state = np.zeros((n_pairs, contact_kernel.N_STATE))
-    pair_now = np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS)))
-    out_contact = np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan)
-    events = np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS))
-    n_events = np.zeros(1, dtype=np.int64)
-    fc = np.zeros(n_dof + 3)
-    v_est = np.zeros(n_dof + 3)
-    cbuf = contact_kernel.buffers(int(c.body_poly.shape[1]))
-    broad = sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, sweep)
-    cdm_args = (
-        structure.mass, damping_arrays(structure), structure.storey_k, bottom,
-        structure.storey_top, binv, starts, counts,
-        ground, ground_dt,
-        structure.storey_axes, centre, structure.column_storey, col_arm,
-        u, v_half, ku, cv_half, acc, *peaks, *outs, out_ground, out_energy, out_contact, *work,
-        geometry, params, pair_state, pair_now, events, n_events, fc, v_est, cbuf, broad,
-        members, plastic, g, out_member, peak_member,
-    )  # fmt: skip
+    out = Output(*(np.full((n_out, n_dof), np.nan) for _ in range(3)), np.full((n_out, 2), np.nan),
+                 np.full((n_out, 7), np.nan), np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan))  # fmt: skip
+    pairs = contact_state(c, n_dof, sweep)
+    yielding = yielding_state(structure, n_out)
+    n_members = yielding.plastic.shape[0]
     counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
     counters[hybrid.CNT_FAILED_STEP] = -1
-    kinv = np.zeros((1, 1, 1))
     if substep > 0:
         if n_steps % substep or stride % substep:
             raise ValueError("n_steps and stride must be multiples of substep")
         h = substep * dt
-        blocks = stiffness_blocks(structure)
-        levels = approach_levels(substep, int(counts.max()), starts.size) if n_pairs else 0
-        damping_dense = damping_blocks(structure)
-        # steps of h/2^L, … h/2, h, 2h, from one set of matrix exponentials (the finest)
-        steps = building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**levels, levels + 1)
-        phi, g0, g1, mean_rows, damping_form = (np.ascontiguousarray(m[levels::-1]) for m in steps)  # level j: h/2^j
-        kinv = inverse_blocks(blocks, counts) if n_members else kinv
         sub_y = yield_substep if 0 < yield_substep < substep else substep
+        grid = Substeps(h, n_steps // substep, stride // substep, int(round(ground_dt / h)))
+        contact_step = CdmStep(h / substep, binv, stride // substep * substep, substep)
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
-        v_exact = v0.copy()
-        rho = fastest_rate(blocks, damping_dense, structure.mass, starts, counts)
-        # two substeps at once (hybrid.hybrid_advance) where the peaks allow it and two fit
-        # between record and output samples
-        doubles = rho * 2 * h <= CREST_SPAN and round(ground_dt / h) > 1 and stride // substep > 1
-        span = rho * (2 * h if doubles else h)
-        series = np.zeros((crest_series_order(span), n_dof + 3))
-        crest_work = (1.0 - min(0.5, CREST_MARGIN * span**6 / 46080), crest_arrays(col_arm.shape[0], n_storeys, n_dof),
-                      series, np.zeros((2, n_dof + 3)), np.zeros(series.shape[0]))  # fmt: skip
-        exact_args = (phi, g0, g1, mean_rows, damping_form, v_exact, np.zeros(n_dof + 3), np.zeros(n_dof + 3),
-                      np.zeros(phi.shape[2] + 4), np.zeros(phi.shape[2]), np.zeros(1, dtype=np.int64), counters,
-                      kinv, np.zeros(n_dof + 3), np.full(1, h), np.zeros((KEPT_ROWS, n_dof + 3)),
-                      *between_arrays(structure.column_storey, col_arm, n_storeys), ground_rate_response(structure),
-                      *(m[levels + 1] if doubles else m[levels + 1, :0] for m in steps), crest_work)  # fmt: skip
+        yield_step = CdmStep(h / sub_y, binv_y, stride // substep * sub_y, sub_y)
+        propagators, exact = exact_branch(structure, frame, v0, h, substep, stride, ground_dt, n_pairs > 0,
+                                          n_members > 0)  # fmt: skip
+        progress_state = Progress(np.zeros(1, dtype=np.int64), counters)
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            return hybrid.hybrid_advance(start, stop, total, h, substep, sub_y, binv_y, stride // substep, DIVERGENCE_LIMIT,
-                                         *exact_args, *cdm_args)  # fmt: skip
+            return hybrid.hybrid_advance(start, stop, grid, frame, record, contact_step, yield_step, propagators, exact,
+                                         motion, work, peaks, out, pairs, yielding, progress_state)  # fmt: skip
     else:
         unit, total = 1, n_steps
+        step = CdmStep(dt, binv, stride, 1)
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            status, done = cdm.advance(start, stop, dt, stride, DIVERGENCE_LIMIT, *cdm_args)
+            status, done = cdm.advance(start, stop, step, frame, record, motion, work, peaks, out, pairs, yielding)
             counters[hybrid.CNT_CDM] += min(done, total) - start  # the pass at t_N ends the run: not a step
             if status != cdm.STATUS_OK:
                 counters[hybrid.CNT_FAILED_STEP] = done
             return status, done
 
     chunk = max(1, chunk // unit)
-    if substep > 0:  # chunks end at output samples, never inside a double substep
-        per_output = stride // substep
-        chunk = max(per_output, chunk // per_output * per_output)
+    per_output = stride // substep if substep > 0 else 1  # hybrid chunks end at output samples,
+    chunk = max(per_output, chunk // per_output * per_output)  # never inside a double substep
     t0 = time.perf_counter()
     advance(0, 0)  # nothing to do: compiles the kernel, or loads it from numba's cache
     compile_time = time.perf_counter() - t0
@@ -433,7 +423,10 @@ def simulate(
             stop = min(done + chunk, total + 1)
             t0 = time.perf_counter()
             status, done = advance(done, stop)
-            wall += time.perf_counter() - t0
+            took = time.perf_counter() - t0
+            wall += took
+            if took < 0.5 * CHUNK_SECONDS and chunk < total:  # a call costs tens of µs: make them few
+                chunk *= 2
             stop_if_requested()
             if progress is not None:
                 progress(min(done, total), total)
@@ -443,40 +436,42 @@ def simulate(
         status = -1
     done *= unit
     failed_step = int(counters[hybrid.CNT_FAILED_STEP])
+    u = motion.u
     if status == cdm.STATUS_OK:
         text, valid = "complete", n_out
     elif status == cdm.STATUS_DIVERGED:
-        valid = _leading_good_rows(outs[0], out_energy)
+        valid = _leading_good_rows(out.displacement, out.energy)
         what = (f"a displacement exceeded {DIVERGENCE_LIMIT:g} m" if np.isfinite(u[:n_dof]).all()
                 else "the state became NaN or infinite")  # fmt: skip
         text = f"failed: diverged at step {failed_step} (t = {failed_step * dt:.6g} s): {what}; Δt = {dt:.3g} s may be too large"
     elif status == cdm.STATUS_ENERGY:
-        valid = _leading_good_rows(outs[0], out_energy)
+        valid = _leading_good_rows(out.displacement, out.energy)
         text = (
             f"failed: unstable at step {failed_step} (t = {failed_step * dt:.6g} s): the energy balance error passed "
-            f"{100 * cdm.ENERGY_LIMIT:g} % of the energy in play, or the contacts gave out more energy than they took "
-            f"by {100 * cdm.ENERGY_LIMIT:g} % of the input; Δt = {dt:.3g} s is too large for the "
+            f"{100 * ENERGY_LIMIT:g} % of the energy in play, or the contacts gave out more energy than they took "
+            f"by {100 * ENERGY_LIMIT:g} % of the input; Δt = {dt:.3g} s is too large for the "
             'stiffest vibration (structure or contact): use dt = "auto" or a smaller step'
         )
     else:
         text = "failed: interrupted"
-        valid = _leading_good_rows(outs[0], out_energy)
+        valid = _leading_good_rows(out.displacement, out.energy)
     cut = slice(0, valid)
+    events, n_events = pairs.events, int(pairs.n_events[0])
     return Response(
         time=np.arange(valid) * stride * dt,
-        displacement=outs[0][cut],
-        velocity=outs[1][cut],
-        acceleration=outs[2][cut],
-        ground=out_ground[cut],
-        energy=out_energy[cut],
-        peak_column=peaks[0],
-        peak_storey_rotation=peaks[1],
-        peak_displacement=peaks[2],
-        peak_acceleration=peaks[3],
-        contact=out_contact[cut],
-        events=events[: min(int(n_events[0]), events.shape[0])].copy() if n_pairs else events[:0].copy(),
-        events_total=int(n_events[0]),
-        contact_steps=int(acc[cdm.ACC_CONTACT_STEPS]),
+        displacement=out.displacement[cut],
+        velocity=out.velocity[cut],
+        acceleration=out.acceleration[cut],
+        ground=out.ground[cut],
+        energy=out.energy[cut],
+        peak_column=peaks.column,
+        peak_storey_rotation=peaks.storey_rotation,
+        peak_displacement=peaks.displacement,
+        peak_acceleration=peaks.acceleration,
+        contact=out.contact[cut],
+        events=events[: min(n_events, events.shape[0])].copy() if n_pairs else events[:0].copy(),
+        events_total=n_events,
+        contact_steps=int(motion.energy[cdm.ACC_CONTACT_STEPS]),
         dt=dt,
         steps=int(counters[hybrid.CNT_EXACT] + counters[hybrid.CNT_CDM]),
         wall_time=wall,
@@ -487,19 +482,78 @@ def simulate(
         exact_steps_of_dt=int(counters[hybrid.CNT_EXACT_SPAN]),
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
-        failure_dof=_failure_dof(u[:n_dof], v_half[:n_dof]) if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
+        failure_dof=(_failure_dof(u[:n_dof], motion.v_half[:n_dof])
+                     if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1),  # fmt: skip
         failure_step=failed_step if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,
-        member_history=out_member[cut] if n_members else None,
-        peak_member=peak_member if n_members else None,
-        residual_member=residual_deflections(structure, plastic, members) if n_members else None,
+        member_history=yielding.history[cut] if n_members else None,
+        peak_member=yielding.peak if n_members else None,
+        residual_member=residual_deflections(structure, yielding.plastic, yielding.law) if n_members else None,
     )
 
 
-APPROACH_MIN_STEPS = 8
-"""The hybrid's finest exact step toward a contact spans at least this many CDM steps."""
+def contact_state(contact: ContactData, n_dof: int, sweep: bool | None = None) -> Contact:
+    """The contact record of the time loop (records.Contact): the candidates' outlines and
+    law, the broad phase (sweep and prune where `sweep`, or where None and it pays), and their
+    state, out of contact, with room for MAX_EVENTS episodes."""
+    c = contact
+    box = bounding_boxes(c)
+    n_pairs = c.pair_a.size
+    return Contact(
+        Bodies(c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box),
+        PairLaw(c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta, c.pair_ct,
+                c.pair_meff),  # fmt: skip
+        sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, sweep),
+        np.zeros((n_pairs, contact_kernel.N_STATE)),
+        np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS))),
+        np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS)),
+        np.zeros(1, dtype=np.int64),
+        np.zeros(n_dof + 3),
+        np.zeros(n_dof + 3),
+        contact_kernel.buffers(int(c.body_poly.shape[1])),
+    )
 
-APPROACH_MEMORY = 64 * 2**20
-"""The propagators of all approach levels together take at most this many bytes."""
+
+def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:
+    """The yielding members' record (records.Yielding), elastic at the start; none for a
+    linear structure."""
+    mem = getattr(structure, "members", None) or NoMembers()
+    n_members = mem.top.size
+    n_floors = structure.mass.size // 3
+    bottom = np.where(mem.bottom < 0, n_floors, mem.bottom).astype(np.int64)
+    law = MemberLaw(bottom, mem.top, mem.arm_bottom, mem.arm_top, mem.axes, mem.k0, mem.kh, mem.fh, mem.coupled)
+    return Yielding(law, np.zeros((n_members, 4)), np.zeros(structure.mass.size + 3),
+                    np.full((n_out if n_members else 0, n_members, 4), np.nan), np.zeros((n_members, 6)))  # fmt: skip
+
+
+def exact_branch(structure: StructureArrays, frame: Structure, v0: np.ndarray, h: float, substep: int, stride: int,
+                 ground_dt: float, has_pairs: bool, has_members: bool) -> tuple[Propagators, Exact]:  # fmt: skip
+    """The hybrid's exact branch (records.Propagators, records.Exact) for substeps of h s (substep CDM steps each,
+    output every `stride` steps, record samples every ground_dt s) from the velocity v0: the
+    propagators of the approach levels (where contact is possible) and of a double substep
+    (where its span allows it and two fit between record and output samples: ω_max·2h ≤
+    CREST_SPAN), K⁻¹ (with yielding members), and the peaks' work."""
+    starts, counts = frame.dof_start, frame.dof_count
+    n_dof = structure.mass.size
+    n_storeys = structure.storey_k.shape[0]
+    blocks = stiffness_blocks(structure)
+    levels = approach_levels(substep, int(counts.max()), starts.size) if has_pairs else 0
+    damping_dense = damping_blocks(structure)
+    # steps of h/2^L, … h/2, h, 2h, from one set of matrix exponentials (the finest)
+    steps = building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**levels, levels + 1)
+    by_level = Propagator(*(np.ascontiguousarray(m[levels::-1]) for m in steps))  # level j: h/2^j
+    kinv = inverse_blocks(blocks, counts) if has_members else np.zeros((1, 1, 1))
+    rho = fastest_rate(blocks, damping_dense, structure.mass, starts, counts)
+    doubles = rho * 2 * h <= CREST_SPAN and round(ground_dt / h) > 1 and stride // substep > 1
+    double = Propagator(*(m[levels + 1] if doubles else m[levels + 1, :0] for m in steps))
+    span = rho * (2 * h if doubles else h)
+    series = np.zeros((crest_series_order(span), n_dof + 3))
+    crest = Crests(1.0 - min(0.5, CREST_MARGIN * span**6 / 46080), crest_arrays(frame.column_arm.shape[0], n_storeys, n_dof),
+                   series, np.zeros((2, n_dof + 3)), np.zeros(series.shape[0]))  # fmt: skip
+    n2 = by_level.phi.shape[2]
+    between, first = between_arrays(structure.column_storey, frame.column_arm, n_storeys)
+    return Propagators(by_level, double, kinv), Exact(
+        np.zeros(n_dof + 3), v0.copy(), np.zeros(n_dof + 3), np.zeros(n_dof + 3), np.full(1, h), np.zeros(n2 + 4),
+        np.zeros(n2), np.zeros((KEPT_ROWS, n_dof + 3)), between, first, ground_rate_response(structure), crest)
 
 
 def approach_levels(substep: int, n_max: int, n_buildings: int) -> int:

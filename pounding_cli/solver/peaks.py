@@ -36,15 +36,8 @@ import math
 import numpy as np
 
 from .jit import kernel
+from .tunables import CREST_NEWTON_STEPS, SERIES_MAX_ORDER, SERIES_MIN_ORDER, SERIES_REMAINDER
 
-CREST_SPAN = 4.0
-"""The longest exact step the peaks allow, as ω_max·H: the quintic locates every crest within
-Newton's reach of the exact one (module docstring)."""
-
-CREST_MARGIN = 4.0
-"""A quintic crest is valued exactly where it comes within CREST_MARGIN·(ρ·H_max)⁶/46080 of
-its running peak (relative): four times the quintic's error bound, as a mode's share of a
-quantity may exceed the quantity."""
 
 HERMITE_ARM = 4.0 / 27.0
 """The largest value of the Hermite basis functions s(1 − s)² and s²(1 − s) on [0, 1]: the
@@ -63,11 +56,10 @@ def storey_deflection(u, t, b, c, sn, centre):
     return c * ax + sn * ay, c * ay - sn * ax, u[3 * t + 2] - u[3 * b + 2]
 
 
-@kernel
-def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                 col_storey, col_arm, storey_work, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
-    """Running maxima at the state u: column deflections in building axes, storey twist,
-    floor motion.
+@kernel(inline="always")
+def update_peaks(u, acc_abs, structure, storey_work, peaks):
+    """Running maxima (peaks: records.Peaks) at the state u with absolute accelerations
+    acc_abs: column deflections in building axes, storey twist, floor motion.
 
     A point P of a floor with mass centre G moves by u + θ·ẑ×(P − G), so a column at P of
     storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
@@ -75,6 +67,10 @@ def update_peaks(u, acc_abs, n_dof, storey_bottom, storey_top, storey_axes, cent
     ξ = −cos φ·P_y + sin φ·P_x and η = sin φ·P_y + cos φ·P_x (col_arm holds ξ, η).
     storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey.
     """
+    storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
+        structure.storey_axes, structure.centre  # fmt: skip
+    col_storey, col_arm, n_dof = structure.column_storey, structure.column_arm, structure.mass.size
+    peak_col, peak_rot, peak_disp, peak_acc = peaks
     for s in range(storey_top.size):
         dx, dy, rot = storey_deflection(u, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                         centre)  # fmt: skip
@@ -217,11 +213,17 @@ def crest_arrays(n_columns: int, n_storeys: int, n_dof: int) -> np.ndarray:
 def crest_series_order(rho_h: float) -> int:
     """Rows of hybrid.state_series (u⁽ʲ⁾, j = 0 … R − 1) for exact steps of ρ·H ≤ rho_h: the
     Taylor series of an acceleration's second derivative, its shortest, keeps R − 4 terms, and
-    its remainder (ρ·H)^(R−4)/(R−4)! of the motion is below 1e-16."""
+    its remainder (ρ·H)^(R−4)/(R−4)! of the motion is below SERIES_REMAINDER. A step so long
+    that this takes more than SERIES_MAX_ORDER terms (or a rate that is not finite) is a
+    ValueError: the crests' search holds to ρ·H = CREST_SPAN, and such a rate belongs to an
+    overdamped mode far beyond the record's reach."""
     order, term = 0, 1.0
-    while term > 1e-16 or order < 8:
+    while term > SERIES_REMAINDER or order < SERIES_MIN_ORDER:
         order += 1
         term *= rho_h / order
+        if order > SERIES_MAX_ORDER or not term < float("inf"):
+            raise ValueError(f"the exact steps span rho*H = {rho_h:.3g}: their peaks' Taylor series would need more "
+                             f"than {SERIES_MAX_ORDER} terms")  # fmt: skip
     return order + 4
 
 
@@ -238,15 +240,19 @@ def _series_at(b, n_c, sigma):
 
 
 @kernel
-def settle_crests(h, crests, n, series, agx, agy, sx, sy, storey_bottom, storey_top, storey_axes, centre,
-                  col_storey, col_arm, coef, peak_col, peak_rot, peak_disp, peak_acc):  # fmt: skip
-    """The exact values of the n crests quintic_crests listed over the step of h s that ends
-    at the state of `series` (hybrid.state_series: u⁽ʲ⁾ there, row j), raising their running
-    peaks. A quantity q, linear in u, has the Taylor series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁)
+def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
+    """The exact values of the n crests quintic_crests listed (crest.crests) over the step of
+    h s that ends at the state of crest.series (hybrid.state_series: u⁽ʲ⁾ there, row j),
+    raising their running peaks (records.Peaks). A quantity q, linear in u, has the Taylor series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁)
     about the end t₁; an absolute acceleration is ü + the ground's (agx, agy at t₁, rising
     at sx, sy m/s³ over the step). From the quintic's crest, Newton's steps on q' find the
     exact one; every value they visit is the motion's own, so the peak takes the largest.
-    coef: work, as long as a column of series."""
+    crest.coef: work, as long as a column of series."""
+    crests, series, coef = crest.crests, crest.series, crest.coef
+    storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
+        structure.storey_axes, structure.centre  # fmt: skip
+    col_storey, col_arm = structure.column_storey, structure.column_arm
+    peak_col, peak_rot, peak_disp, peak_acc = peaks
     n_rows = series.shape[0]
     for i in range(n):
         kind = int(crests[i, 0])
@@ -273,7 +279,7 @@ def settle_crests(h, crests, n, series, agx, agy, sx, sy, storey_bottom, storey_
             sign *= -1.0 / (j + 1)  # the Taylor coefficient (−1)ʲ⁺¹/(j + 1)!
         sigma = (1.0 - crests[i, 2]) * h
         best = 0.0
-        for _ in range(16):
+        for _ in range(CREST_NEWTON_STEPS):
             p, dp, ddp = _series_at(coef, n_c, sigma)
             best = max(best, abs(p))
             if ddp == 0.0:
@@ -314,11 +320,9 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 
 @kernel
-def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bottom, storey_top, storey_axes, centre,
-                  col_arm, first, storey_work, kept, between, peak_col, peak_rot, peak_disp, peak_acc, floor_ratio,
-                  crests):  # fmt: skip
-    """After update_peaks at an exact state (u, v) with relative and absolute accelerations
-    a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
+def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks):
+    """After update_peaks at an exact state (u, v = exact.v) with relative and absolute
+    accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
     and the crests over it of the column deflections, storey twists, floor displacements and
     absolute floor accelerations that may raise their running peaks are listed in `crests`
     (quintic_crests: the quintic through values, rates and second derivatives at both ends,
@@ -333,7 +337,14 @@ def peaks_between(h, smooth, u, v, a_rel, a_abs, rates, sx, sy, n_dof, storey_bo
     storeys' first columns (between_arrays). A storey's columns are looked at only where the
     bound for the whole storey (its deflection plus its largest arm times its twist) passes
     floor_ratio × the lowest of their peaks: most steps of most storeys are settled by that
-    one comparison."""
+    one comparison. (rates, kept, between, first, floor_ratio and crests: fields of exact,
+    records.Exact.)"""
+    v, a_rel, rates, kept, between, first = exact.v, exact.a_rel, exact.rates, exact.kept, exact.between, exact.first
+    floor_ratio, crests = exact.crest.floor_ratio, exact.crest.crests
+    storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
+        structure.storey_axes, structure.centre  # fmt: skip
+    col_arm, n_dof = structure.column_arm, structure.mass.size
+    peak_col, peak_rot, peak_disp, peak_acc = peaks
     n = 0
     for s in range(storey_top.size):
         rx, ry, rt = storey_deflection(v, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],

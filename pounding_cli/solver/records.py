@@ -1,0 +1,387 @@
+"""The compiled time loop's arguments, grouped in a few named records.
+
+Every kernel of the loop takes these records instead of loose arrays: the structure, the
+ground motion, the CDM's step, the state it carries from step to step, the work buffers,
+the peaks and outputs, the contact candidates and their state, the yielding members, and
+for the hybrid integrator its exact propagators and the state of its exact branch. They are
+named tuples, which numba compiles as plain structs: a field is read as `structure.mass`, and
+the arrays inside are written in place. Scalars (a step, a count) are fields too; nothing
+here is mutable but the arrays. Inside compiled code a record costs what its arrays would as
+separate arguments; the phases that run every step or substep are inlined (no call at all).
+A call from Python pays for checking every array's type: about 30 µs for the whole set
+(20 µs as loose arrays), which is why integrate.simulate calls the loop in chunks that grow
+while they are quick (integrate.CHUNK_SECONDS).
+
+State vectors (u, v, forces) are n_dof + 3 long: 3 DOFs per floor (u_x, u_y in m, θ_z in
+rad, at the floor's mass centre), and last an extra zero "floor", the ground, which is the
+bottom floor of every ground storey (so no storey is a special case).
+
+The records are built in integrate.py (simulate), from the arrays of
+pounding_cli.assembly; the tests build small ones the same way.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Damping(NamedTuple):
+    """C = a0·M + a1·K per DOF, plus 6×6 links between two floors (an isolated building's
+    superstructure damping acting on its deformation, assembly/damping.py)."""
+
+    a0: np.ndarray
+    """(n_dof,) mass-proportional coefficient, 1/s"""
+    a1: np.ndarray
+    """(n_dof,) stiffness-proportional coefficient, s"""
+    link: np.ndarray
+    """(n_links, 6, 6) damping blocks on the DOFs of floors link_bottom and link_top, N·s/m"""
+    link_bottom: np.ndarray
+    """(n_links,) bottom floor of each link (the ground floor, n_floors, for the ground)"""
+    link_top: np.ndarray
+    """(n_links,) top floor of each link"""
+
+
+class Structure(NamedTuple):
+    """The buildings: mass, storey stiffness, damping, and where the columns stand."""
+
+    mass: np.ndarray
+    """(n_dof,) floor masses, kg (rotational inertia about the mass centre, kg·m², for θ)"""
+    damping: Damping
+    storey_k: np.ndarray
+    """(n_storeys, 6, 6) storey stiffness on the DOFs of its bottom and top floors, N/m, N, N·m"""
+    storey_bottom: np.ndarray
+    """(n_storeys,) floor below each storey (n_floors, the ground, for a ground storey)"""
+    storey_top: np.ndarray
+    """(n_storeys,) floor above each storey"""
+    dof_start: np.ndarray
+    """(n_buildings,) first DOF of each building"""
+    dof_count: np.ndarray
+    """(n_buildings,) DOFs of each building (its blocks of M, K, C are dense; buildings are
+    coupled only by contact)"""
+    storey_axes: np.ndarray
+    """(n_storeys, 2) cos φ, sin φ of the building axes, in which deflections are reported"""
+    centre: np.ndarray
+    """(n_floors + 1, 2) floor mass centres at rest, m, global; the ground's row is zero"""
+    column_storey: np.ndarray
+    """(n_columns,) storey of each column (columns are listed storey by storey)"""
+    column_arm: np.ndarray
+    """(n_columns, 2) ξ, η: the column's arm in building axes, m (peaks.update_peaks)"""
+
+
+class Ground(NamedTuple):
+    """The ground acceleration, linear between samples and zero after the record."""
+
+    acceleration: np.ndarray
+    """(n, 2) along global X and Y, m/s²"""
+    dt: float
+    """sample interval, s"""
+
+
+class CdmStep(NamedTuple):
+    """One step size of the central difference method."""
+
+    dt: float
+    """the step, s"""
+    inverse: np.ndarray
+    """(n_buildings, n_max, n_max) B⁻¹ = (M/Δt + C/2)⁻¹ per building, padded"""
+    per_output: int
+    """steps per output sample"""
+    per_substep: int
+    """steps per exact substep of the hybrid integrator (1 for the plain CDM)"""
+
+
+class Motion(NamedTuple):
+    """The state the CDM carries from step to step (and across calls)."""
+
+    u: np.ndarray
+    """(n_dof + 3) u_n, relative to the ground, m and rad"""
+    v_half: np.ndarray
+    """(n_dof + 3) v_{n−½}, m/s and rad/s"""
+    ku: np.ndarray
+    """(n_dof + 3) K·u_n, N"""
+    cv_half: np.ndarray
+    """(n_dof + 3) C·v_{n−½}, N"""
+    energy: np.ndarray
+    """(cdm.N_ACC,) energy accumulators (cdm.ACC_*), J and W"""
+
+
+class Work(NamedTuple):
+    """Scratch vectors of a step ((n_dof + 3) each but storey_work)."""
+
+    r: np.ndarray
+    """the residual p − K·u − C·v + F_contact + g, N"""
+    dv: np.ndarray
+    """Δv_n = B⁻¹·r, m/s"""
+    v: np.ndarray
+    """v_n, the central-difference velocity, m/s"""
+    a_abs: np.ndarray
+    """absolute acceleration at t_n, m/s²"""
+    z: np.ndarray
+    """K·v_{n+½}, N/s"""
+    cv_next: np.ndarray
+    """C·v_{n+½} (or C·v at an exact state), N"""
+    storey_work: np.ndarray
+    """(n_storeys, 3) storey deflections (Ã_x, Ã_y, Δθ) at the state just peaked, m, rad"""
+
+
+class Peaks(NamedTuple):
+    """Running maxima over every step (and between exact states)."""
+
+    column: np.ndarray
+    """(n_columns, 2) |Δu| along building x, y, m"""
+    storey_rotation: np.ndarray
+    """(n_storeys,) |Δθ|, rad"""
+    displacement: np.ndarray
+    """(n_dof,) |u|, m and rad"""
+    acceleration: np.ndarray
+    """(n_dof,) absolute |a|, m/s² and rad/s²"""
+
+
+class Output(NamedTuple):
+    """Histories at the output interval (row k: t = k × the interval)."""
+
+    displacement: np.ndarray
+    """(n_out, n_dof) relative, m and rad"""
+    velocity: np.ndarray
+    """(n_out, n_dof) relative, m/s and rad/s"""
+    acceleration: np.ndarray
+    """(n_out, n_dof) absolute, m/s² and rad/s²"""
+    ground: np.ndarray
+    """(n_out, 2) ground acceleration X, Y, m/s²"""
+    energy: np.ndarray
+    """(n_out, 7) J, columns cdm.ENERGY_NAMES"""
+    contact: np.ndarray
+    """(n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS"""
+
+
+class Bodies(NamedTuple):
+    """The outlines that may touch: floor slabs and fixed obstacles, as convex polygons."""
+
+    poly: np.ndarray
+    """(n_bodies, n_vertices, 2) outline at rest, counter-clockwise, m, global"""
+    nv: np.ndarray
+    """(n_bodies,) vertices of each outline"""
+    floor: np.ndarray
+    """(n_bodies,) the floor the body moves with; −1 for an obstacle (moves with the ground)"""
+    centre: np.ndarray
+    """(n_bodies, 2) the floor's mass centre at rest (an obstacle's reference point), m"""
+    radius: np.ndarray
+    """(n_bodies,) largest distance from centre to a vertex, m"""
+    box: np.ndarray
+    """(n_bodies, 4) x_min, y_min, x_max, y_max of the outline at rest, m"""
+
+
+class PairLaw(NamedTuple):
+    """The candidate pairs and their impact law (contact.py, paper eqs. 3–5)."""
+
+    a: np.ndarray
+    """(n_pairs,) body A of each pair (the normal points from A into B)"""
+    b: np.ndarray
+    """(n_pairs,) body B"""
+    k_n: np.ndarray
+    """(n_pairs,) normal stiffness per unit overlap area, N/m²"""
+    k_t: np.ndarray
+    """(n_pairs,) tangential stiffness, N/m"""
+    mu_s: np.ndarray
+    """(n_pairs,) static friction coefficient"""
+    mu_k: np.ndarray
+    """(n_pairs,) kinetic friction coefficient"""
+    c_n: np.ndarray
+    """(n_pairs,) normal dashpot, N·s/m"""
+    zeta: np.ndarray
+    """(n_pairs,) normal dashpot as a damping ratio of the contact (instead of c_n)"""
+    c_t: np.ndarray
+    """(n_pairs,) tangential dashpot, N·s/m"""
+    m_eff: np.ndarray
+    """(n_pairs,) effective mass of the pair, kg (for zeta)"""
+
+
+class BroadPhase(NamedTuple):
+    """Sweep and prune by level (broad_phase.py); without groups every pair is tested."""
+
+    group_start: np.ndarray
+    """(n_groups + 1,) first member of each group"""
+    group_body: np.ndarray
+    """(n_members,) body of each member"""
+    group_axis: np.ndarray
+    """(n_groups,) sweep axis of each group (0: x, 1: y); empty: test every pair"""
+    index_start: np.ndarray
+    """(n_groups,) where each group's local pair index starts in `index`"""
+    index: np.ndarray
+    """dense local pair index of each group (−1: not a candidate)"""
+    order: np.ndarray
+    """(n_members,) members by lower bound, carried from step to step"""
+    bounds: np.ndarray
+    """(n_members, 4) the members' bounds (broad_phase.LO_SWEEP …), m"""
+    hits: np.ndarray
+    """(n_pairs,) the pairs a sweep found"""
+    live: np.ndarray
+    """(n_pairs,) the pairs in contact at the last step"""
+    n_live: np.ndarray
+    """(1,) how many of `live` are set"""
+
+
+class ClipWork(NamedTuple):
+    """Work buffers of the narrow phase (contact.buffers)."""
+
+    poly_a: np.ndarray
+    poly_b: np.ndarray
+    clip: np.ndarray
+    clip_label: np.ndarray
+    tmp: np.ndarray
+    tmp_label: np.ndarray
+    frame: np.ndarray
+    """the contact frame of the last overlap (contact_geometry.RESULT_NAMES)"""
+
+
+class Contact(NamedTuple):
+    """The contact candidates, their state from step to step, and the impact log."""
+
+    bodies: Bodies
+    law: PairLaw
+    broad: BroadPhase
+    state: np.ndarray
+    """(n_pairs, contact.N_STATE) each pair's episode so far (contact.ST_*)"""
+    now: np.ndarray
+    """(n_pairs, 6) each pair's force, area, action point and depth now (contact.NOW_COLUMNS)"""
+    events: np.ndarray
+    """(max_events, contact.EV_COLUMNS) the impact log, one row per episode"""
+    n_events: np.ndarray
+    """(1,) episodes so far (beyond max_events: counted, not logged)"""
+    force: np.ndarray
+    """(n_dof + 3) the contact forces of the step on the floors, N, N·m"""
+    v_est: np.ndarray
+    """(n_dof + 3) v_n ≈ v_{n−½} + Δv_{n−1}/2 for the dashpots, m/s"""
+    clip: ClipWork
+
+
+class MemberLaw(NamedTuple):
+    """Yielding members (inelastic columns, isolators): where they stand and their bilinear law
+    along their local axes (hysteresis.py)."""
+
+    bottom: np.ndarray
+    """(n_members,) floor below (the ground floor, n_floors, for the ground)"""
+    top: np.ndarray
+    """(n_members,) floor above"""
+    arm_bottom: np.ndarray
+    """(n_members, 2) plan position relative to the bottom floor's mass centre, m"""
+    arm_top: np.ndarray
+    """(n_members, 2) the same for the top floor, m"""
+    axes: np.ndarray
+    """(n_members, 2) cos, sin of the local x axis"""
+    k0: np.ndarray
+    """(n_members, 2) initial stiffness along local x, y, N/m"""
+    kh: np.ndarray
+    """(n_members, 2) the hysteretic spring's stiffness, N/m"""
+    fh: np.ndarray
+    """(n_members, 2) the hysteretic spring's yield force, N"""
+    coupled: np.ndarray
+    """(n_members,) 1: the elliptical (biaxially coupled) yield surface"""
+
+
+class Yielding(NamedTuple):
+    """Yielding members and their state."""
+
+    law: MemberLaw
+    plastic: np.ndarray
+    """(n_members, 4) plastic deflections p_x, p_y, and δ_x, δ_y at the last return map, m"""
+    g: np.ndarray
+    """(n_dof + 3) the plastic correction Σ Bᵀ·Q·(k_h ⊙ p), N"""
+    history: np.ndarray
+    """(n_out, n_members, 4) local δ_x, δ_y (m), f_x, f_y (N) at the output interval"""
+    peak: np.ndarray
+    """(n_members, 6) |δ_x|, |δ_y|, |δ| m, |f_x|, |f_y|, |f| N"""
+
+
+class Propagator(NamedTuple):
+    """Exact steps of one length per building (propagator.py), or of several lengths with a
+    leading level axis (level j: h/2^j)."""
+
+    phi: np.ndarray
+    """(…, n_b, 2·n_max, 2·n_max) state transition e^{A·h} on (u, v)"""
+    g0: np.ndarray
+    """(…, n_b, 2·n_max, 2) response to the ground acceleration at the step's start"""
+    g1: np.ndarray
+    """(…, n_b, 2·n_max, 2) response to its change over the step"""
+    mean_rows: np.ndarray
+    """(…, n_b, 2, 2·n_max + 4) the mean of the mass-weighted translations over the step"""
+    damping_form: np.ndarray
+    """(…, n_b, 2·n_max + 4, 2·n_max + 4) the damping's work over the step, z₀ᵀ·G·z₀"""
+
+
+class Crests(NamedTuple):
+    """Work of the exact peaks between exact states (peaks.py)."""
+
+    floor_ratio: float
+    """the share of a running peak a quintic crest must pass to be valued exactly"""
+    crests: np.ndarray
+    """(n, 3) the crests listed (peaks.crest_arrays)"""
+    series: np.ndarray
+    """(R, n_dof + 3) the exact motion's derivatives at a state (hybrid.state_series)"""
+    series_k: np.ndarray
+    """(2, n_dof + 3) K times two of them"""
+    coef: np.ndarray
+    """(R,) one quantity's Taylor coefficients"""
+
+
+class Propagators(NamedTuple):
+    """The hybrid integrator's exact steps (propagator.py)."""
+
+    levels: Propagator
+    """steps of h/2^j for j = 0 … L (the approach levels)"""
+    double: Propagator
+    """steps of 2h (empty arrays where two substeps are never taken at once)"""
+    k_inverse: np.ndarray
+    """(n_b, n_max, n_max) K⁻¹ per building (yielding members' static offset)"""
+
+
+class Exact(NamedTuple):
+    """The state of the hybrid integrator's exact branch between calls, and its work."""
+
+    u_static: np.ndarray
+    """(n_dof + 3) K⁻¹·g, the static offset of the members' plastic deflections, m"""
+    v: np.ndarray
+    """(n_dof + 3) the exact state's velocity, m/s"""
+    kv: np.ndarray
+    """(n_dof + 3) K·v, N/s"""
+    a_rel: np.ndarray
+    """(n_dof + 3) acceleration relative to the ground, m/s²"""
+    gap: np.ndarray
+    """(1,) the last exact step, s"""
+    x: np.ndarray
+    """(2·n_max + 4) scratch of propagate"""
+    y: np.ndarray
+    """(2·n_max) scratch of propagate"""
+    kept: np.ndarray
+    """(peaks.KEPT_ROWS, n_dof + 3) what peaks_between keeps of the last exact state"""
+    between: np.ndarray
+    """(n_storeys, peaks.BT_COLUMNS) the same per storey"""
+    first: np.ndarray
+    """(n_storeys + 1,) each storey's first column"""
+    rates: np.ndarray
+    """(hybrid.N_RATES, n_dof + 3) exact_point's rates of the accelerations"""
+    crest: Crests
+
+
+class Substeps(NamedTuple):
+    """The hybrid integrator's grid: exact substeps of h, each `per_substep` CDM steps."""
+
+    h: float
+    """the substep, s"""
+    end: int
+    """the substep at the end of the analysis (only the state there is taken)"""
+    per_output: int
+    """substeps per output sample"""
+    per_record: int
+    """substeps per record interval"""
+
+
+class Progress(NamedTuple):
+    """The hybrid's mode and counters (hybrid.MODE_*, hybrid.CNT_*)."""
+
+    mode: np.ndarray
+    """(1,) what the next substep does"""
+    counters: np.ndarray
+    """(hybrid.N_COUNTERS,) steps, hand-overs, the failed step"""

@@ -1,0 +1,160 @@
+"""Restructuring the time loop changes no result, bit for bit.
+
+The sha256 of every dataset (and every count in /diagnostics) that a few scenes write was
+pinned in tests/bit_for_bit.json before the time loop was regrouped into records and phases
+(issue 29), with the code of 2439a29. The scenes cover each path of the loop: the hybrid with
+contact and friction and its approach levels (paper_pounding), yielding columns and the
+yielding step (paper_inelastic), isolation with damping links, bearings and a moat wall
+(isolated_moat), sweep and prune (row_of_5), double substeps (corner at ω·h / 2), the plain
+CDM (linear at Δt × 4) and a stiff contact (stiff_contact).
+
+Bits depend on more than pound's code: the CPU (numba compiles for the host, LAPACK picks
+kernels by CPU) and the versions of numba, llvmlite, numpy and scipy. The pinned file records
+these; on another platform the comparison cannot mean anything and the test says so and
+skips. To pin again, deliberately, after a change meant to move results:
+`python tests/test_bit_for_bit.py --pin`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import platform
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+PINNED = Path(__file__).with_name("bit_for_bit.json")
+REPO = Path(__file__).resolve().parents[1]
+SCENES = {
+    "paper_pounding": ("inputs/paper_pounding.toml", None),
+    "paper_inelastic": ("inputs/paper_inelastic.toml", None),
+    "isolated_moat": ("inputs/isolated_moat.toml", None),
+    "row_of_5": ("bench:row_of_5", "hybrid (default)"),
+    "corner, double substeps": ("bench:corner", "hybrid, ω·h / 2"),
+    "linear, plain CDM": ("bench:linear", "cdm, Δt × 4"),
+    "stiff_contact": ("bench:stiff_contact", "hybrid (default)"),
+}
+RUN_DEPENDENT = ("time", "us_per_step")  # diagnostics that are timings: not results
+
+
+def platform_key() -> dict[str, str]:
+    """What besides pound's code decides the bits."""
+    import llvmlite
+    import llvmlite.binding
+    import numba
+    import scipy
+
+    return {
+        "machine": platform.machine(),
+        "cpu": llvmlite.binding.get_host_cpu_name(),
+        "numba": numba.__version__,
+        "llvmlite": llvmlite.__version__,
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+    }
+
+
+def scene_result(name: str):
+    """Run one scene as the CLI would (the bench's setting where one is named)."""
+    from pounding_cli.api import execute, prepare
+    from pounding_cli.bench.run import SETTINGS, scene_files, with_setting
+
+    source, setting = SCENES[name]
+    if source.startswith("bench:"):
+        path = next(p for p in scene_files() if p.stem == source.split(":")[1])
+    else:
+        path = REPO / source
+    scene = prepare(path)
+    if setting is not None:
+        scene = with_setting(scene, next(s for s in SETTINGS if s.name == setting))
+    return execute(scene)
+
+
+def digests(result) -> dict[str, str]:
+    """sha256 of every dataset of the run's HDF5 file, and every diagnostic that is not a
+    timing, by path."""
+    from pounding_cli.results.hdf5 import write_hdf5
+
+    out = {}
+    with tempfile.TemporaryDirectory() as folder:
+        path = write_hdf5(result, Path(folder) / "run.h5")
+        with h5py.File(path) as f:
+
+            def visit(name, node):
+                if isinstance(node, h5py.Dataset):
+                    data = node[()]
+                    # tables with strings hold pointers: hash their values
+                    raw = repr(data.tolist()).encode() if data.dtype.hasobject else np.ascontiguousarray(data).tobytes()
+                    out[name] = hashlib.sha256(raw).hexdigest()
+
+            f.visititems(visit)
+            for key, value in f["diagnostics"].attrs.items():
+                if not any(word in key for word in RUN_DEPENDENT):
+                    out[f"diagnostics/{key}"] = str(value)
+            out["status"] = str(f.attrs["status"])
+    return out
+
+
+def pin() -> None:
+    PINNED.write_text(json.dumps({"platform": platform_key(), "scenes": {n: digests(scene_result(n)) for n in SCENES}},
+                                 indent=1, ensure_ascii=False) + "\n", encoding="utf-8")  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def pinned():
+    data = json.loads(PINNED.read_text(encoding="utf-8"))
+    here = platform_key()
+    if data["platform"] != here:
+        differ = {k: (data["platform"].get(k), v) for k, v in here.items() if data["platform"].get(k) != v}
+        pytest.skip(f"pinned on another platform ({differ}: pinned, here): bits cannot be compared")
+    return data["scenes"]
+
+
+@pytest.mark.parametrize("name", list(SCENES))
+def test_every_dataset_is_as_pinned(pinned, name):
+    now = digests(scene_result(name))
+    assert now.keys() == pinned[name].keys(), f"{name}: datasets added or gone"
+    changed = sorted(k for k in now if now[k] != pinned[name][k])
+    assert not changed, f"{name}: {len(changed)} of {len(now)} datasets changed: {changed}"
+
+
+if __name__ == "__main__":
+    if sys.argv[1:] != ["--pin"]:
+        sys.exit("usage: python tests/test_bit_for_bit.py --pin")
+    pin()
+
+
+@pytest.mark.parametrize("integrator", ["hybrid", "cdm"])
+def test_the_time_loops_calls_do_not_change_the_results(integrator):
+    """The time loop runs in calls (chunks) whose length grows while they are quick
+    (integrate.CHUNK_SECONDS); where they begin and end must not matter: the paper's scene
+    (contact, friction, the hybrid's approach) from one-substep chunks against the default,
+    bit for bit. No platform key needed: both runs are on this machine."""
+    from dataclasses import fields
+
+    from pounding_cli.api import prepare
+    from pounding_cli.solver import simulate
+
+    scene = prepare(REPO / "inputs" / "paper_pounding.toml")
+    g = scene.grid
+    substep = g.substep if integrator == "hybrid" else 0
+    n_steps = g.n_steps if substep else 40 * g.stride  # the CDM at the contact step: 0.4 s
+
+    def run(chunk: int):
+        return simulate(scene.system, scene.ground.acceleration, scene.ground.dt, g.dt, g.stride, n_steps,
+                        contact=scene.contact, substep=substep, yield_substep=g.yield_substep, chunk=chunk)  # fmt: skip
+
+    small, default = run(1), run(20_000)
+    for field in fields(small):
+        a, b = getattr(small, field.name), getattr(default, field.name)
+        if field.name in ("wall_time", "compile_time"):
+            continue
+        if isinstance(a, np.ndarray):
+            assert a.tobytes() == b.tobytes(), field.name
+        else:
+            assert a == b, field.name
