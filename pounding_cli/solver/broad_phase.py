@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import INTERNAL, kernel
 from .records import BroadPhase
 from .tunables import SWEEP_PAIRS_PER_MEMBER
 
@@ -221,7 +221,7 @@ def boxes_may_meet_within(horizon, u, v, acc, bodies, broad):
     return _widened_sweep(horizon, u, v, acc, bodies, broad, True) != 0
 
 
-@kernel
+@kernel(**INTERNAL)
 def pairs_may_meet_within(horizon, u, v, acc, bodies, broad):
     """The pairs whose boxes, each widened by how far its body can move within `horizon` s,
     overlap, into broad's `hits` (sweep and prune, by group); returns their number, or −1 for

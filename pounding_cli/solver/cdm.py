@@ -31,7 +31,7 @@ allocates nothing.
 from __future__ import annotations
 
 import numpy as np
-from .jit import REASSOCIATE, kernel
+from .jit import INTERNAL, REASSOCIATE, kernel, phase
 
 from .contact import contact_forces
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
@@ -72,7 +72,7 @@ def ground_at(t, ground):
     return (1 - w) * record[i, 0] + w * record[i + 1, 0], (1 - w) * record[i, 1] + w * record[i + 1, 1]
 
 
-@kernel(fastmath=REASSOCIATE)
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec(x, storey_k, bottom, top, out):
     """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
     out[:] = 0.0
@@ -86,7 +86,7 @@ def storey_matvec(x, storey_k, bottom, top, out):
             out[b + r if r < 3 else t + r - 3] += acc
 
 
-@kernel(fastmath=REASSOCIATE)
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec_pair(x, y, storey_k, bottom, top, kx, ky):
     """kx = K·x and ky = K·y in one pass over the storeys (as storey_matvec, twice)."""
     kx[:] = 0.0
@@ -126,7 +126,7 @@ def damping_force(v, kv, mass, damping, n_dof, out):
             out[b + r if r < 3 else t + r - 3] += acc
 
 
-@kernel(fastmath=REASSOCIATE)
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
 def solve_blocks(binv, dof_start, dof_count, r, out):
     """out = blockdiag(B⁻¹)·r, one dense block per building."""
     for b in range(dof_start.size):
@@ -152,7 +152,7 @@ def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
     acc[ACC_P_CONTACT] = p_contact
 
 
-@kernel
+@kernel(**INTERNAL)
 def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plastic):
     """Store the state at output sample k into out (records.Output; ku = K·u at that instant,
     e_plastic what yielding members change in the strain energy ½uᵀKu, hysteresis.py);
@@ -198,7 +198,7 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plast
     return STATUS_OK
 
 
-@kernel(inline="always")
+@phase
 def _contact_phase(n, dt, motion, dv, contact):
     """Contact forces at t_n from the displaced outlines into contact.force (zero without
     candidates): broad phase, narrow phase, impact law (contact.contact_forces), with the
@@ -211,7 +211,7 @@ def _contact_phase(n, dt, motion, dv, contact):
             motion.energy[ACC_CONTACT_STEPS] += 1.0
 
 
-@kernel(inline="always")
+@phase
 def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
     """r_n = p_n − K·u_n − C·v_{n−½} + F_contact + g; Δv_n = B⁻¹·r_n; the state at t_n
     (v_n = v_{n−½} + Δv_n/2, a_n = Δv_n/Δt plus the ground's); v_{n+½} = v_{n−½} + Δv_n and
@@ -238,7 +238,7 @@ def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
     damping_force(v_half, work.z, mass, structure.damping, n_dof, work.cv_next)
 
 
-@kernel(inline="always")
+@phase
 def _step_energy(agx, agy, dt, mass, motion, work, fc):
     """The trapezoidal step of the input, damping and contact work, from the powers at t_n
     (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
@@ -255,7 +255,7 @@ def _step_energy(agx, agy, dt, mass, motion, work, fc):
     accumulate_energy(motion.energy, dt, p_in, p_damp, p_contact)
 
 
-@kernel(inline="always")
+@phase
 def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact, yielding):
     """At an output step, the state at t_n into row n / per_output (and the members'), with the
     divergence and energy checks (write_output); at every step the members' peaks."""
@@ -272,7 +272,7 @@ def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact,
     return STATUS_OK
 
 
-@kernel(inline="always")
+@phase
 def _position_update(n, step, structure, motion, work, yielding):
     """u_{n+1} = u_n + Δt·v_{n+½}, K·u_{n+1} = K·u_n + Δt·z (the ground entries stay zero),
     C·v_{n+½} carried; the members' return map along the step; K·u and the plastic correction

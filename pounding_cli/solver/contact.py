@@ -57,7 +57,7 @@ from .broad_phase import (
     reach,
     reach_over,
 )
-from .jit import kernel
+from .jit import INTERNAL, kernel, phase
 from .records import ClipWork
 from .tunables import CLOSING_SAFETY
 
@@ -174,7 +174,7 @@ def _circles_meet(ax, ay, bx, by, radius_sum):
     return (bx - ax) ** 2 + (by - ay) ** 2 <= radius_sum * radius_sum
 
 
-@kernel
+@kernel(**INTERNAL)
 def narrow_phase(a, b, u, body_poly, body_nv, body_floor, body_centre, gax, gay, gbx, gby, poly_a, poly_b,
                  clip, clip_label, tmp, tmp_label, frame):  # fmt: skip
     """Overlap of the displaced outlines of bodies a and b and its contact frame (into frame);
@@ -360,7 +360,7 @@ def crest(f0, f1, f2):
     return f1 - 0.25 * slope * slope / curvature
 
 
-@kernel(inline="always")
+@phase
 def _pair_frame(p, u, bodies, law, clip):
     """Narrow phase of pair p at u: (touching, displaced mass centres of A and B), with the
     overlap and its contact frame in clip.frame when they touch. Boxes first, then bounding
@@ -383,7 +383,7 @@ def _pair_frame(p, u, bodies, law, clip):
     return touching, gax, gay, gbx, gby
 
 
-@kernel(inline="always")
+@phase
 def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
     """Pair p no longer touches: close its episode (if one was open), with what the midpoint
     rule missed of its parting (_add_parting, without a dashpot), and reset its state."""
@@ -411,7 +411,7 @@ def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
         now[p, k] = 0.0
 
 
-@kernel(inline="always")
+@phase
 def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
     """F_N = k_N·A_c + c_N·s of pair p, never pulling (N): the dashpot (c_N, or 2ζ√(k_N·L·m))
     weighted by share + ½ at an episode's first step (module docstring); where its pull
@@ -433,7 +433,7 @@ def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
     return f_n
 
 
-@kernel(inline="always")
+@phase
 def _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact):
     """Pair p's friction: the incremental spring F_T − k_T·Δu_T (from where stick began at an
     episode's first step, _stick_since_touch), its dashpot, and Coulomb's stick/slip with the
@@ -471,7 +471,7 @@ def _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact):
     return spring, trial, slipping
 
 
-@kernel(inline="always")
+@phase
 def _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact):
     """Pair p's row of the impact log: opened at an episode's first step; its impulse, its
     peak normal force (the crest through the last three steps, crest) with the action point,
@@ -759,7 +759,7 @@ def _outline_gap(a, b, u, v, back, bodies, poly_a, poly_b):
     return _signed_gap(poly_a, body_nv[a], poly_b, body_nv[b])
 
 
-@kernel
+@kernel(**INTERNAL)
 def gaps_along_step(a, b, dt, u, v_half, bodies, poly_a, poly_b):
     """The signed gaps of bodies a and b now and a step ago along the CDM's straight path
     (u − Δt·v_{n−½}), m (_signed_gap: minus the depth where they overlap)."""

@@ -50,7 +50,7 @@ from .cdm import (
 )
 from .contact import contact_possible_within, contact_ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
-from .jit import REASSOCIATE, kernel
+from .jit import INTERNAL, REASSOCIATE, kernel, phase
 from .peaks import peaks_between, settle_crests, update_peaks
 from .tunables import DIVERGENCE_LIMIT, ENTER_HORIZON, LEAVE_HORIZON
 
@@ -128,7 +128,7 @@ def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield
     return STATUS_OK, k_stop
 
 
-@kernel(inline="always")
+@phase
 def _state_at_substep(k, grid, structure, ground, exact, motion, work, peaks, out, contact, yielding):
     """The exact state at t_k: the members' return map (elastic unless the last substep
     overshot the yield surface), forces, accelerations, energy and peaks (exact_point), the
@@ -152,7 +152,7 @@ def _state_at_substep(k, grid, structure, ground, exact, motion, work, peaks, ou
     return STATUS_OK, yielded
 
 
-@kernel(inline="always")
+@phase
 def _free_span(k, k_stop, yielded, grid, propagators, exact, motion, contact, yielding):
     """How many substeps from t_k can be taken exactly at once: 2 where two fit (a propagator
     of 2h exists, no output sample, record sample, call's end or the analysis' end falls
@@ -176,7 +176,7 @@ def _free_span(k, k_stop, yielded, grid, propagators, exact, motion, contact, yi
     return (0 if contact_soon or may_yield else 1), contact_soon, may_yield
 
 
-@kernel(inline="always")
+@phase
 def _propagate_free(k, span, grid, contact_step, structure, ground, propagators, exact, motion, yielding, counters):
     """Take `span` (1 or 2) substeps from t_k exactly. False when a displacement passes
     DIVERGENCE_LIMIT or is not finite (the run stops at the substep that made it: a non-finite
@@ -202,7 +202,7 @@ def _propagate_free(k, span, grid, contact_step, structure, ground, propagators,
     return True
 
 
-@kernel(inline="always")
+@phase
 def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_step, structure, exact, motion, work,
                           progress):  # fmt: skip
     """Something may happen within the horizon: approach a contact by finer exact steps (where
@@ -216,7 +216,7 @@ def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_s
     progress.counters[CNT_SWITCHES] += 1
 
 
-@kernel(inline="always")
+@phase
 def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, exact, motion, work, peaks, out, contact,
                  yielding, progress):  # fmt: skip
     """The CDM through the whole substep k at `step` (the contact step, or the yielding step);
@@ -252,7 +252,7 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
     return STATUS_OK
 
 
-@kernel(inline="always")
+@phase
 def _within_substep(k, grid, step, structure, ground, propagators, exact, motion, work, peaks, out, contact, yielding,
                     progress):  # fmt: skip
     """Substep k finest step (h/2^L) by finest step: exact steps toward a contact (MODE_APPROACH),
@@ -331,7 +331,7 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
     return STATUS_OK, k + 1
 
 
-@kernel
+@kernel(**INTERNAL)
 def exact_state(t, structure, ground, motion, work, exact, g):
     """K·u, C·v and the accelerations (absolute into work.a_abs, relative into exact.a_rel) at
     time t from the exact state (motion.u, exact.v) and the members' plastic correction g.
@@ -351,7 +351,7 @@ def exact_state(t, structure, ground, motion, work, exact, g):
     return agx, agy
 
 
-@kernel
+@kernel(**INTERNAL)
 def exact_point(t, gap, structure, ground, motion, work, exact, peaks, g):
     """Everything the exact propagation owes the state (u, v) it reached at t: forces and
     accelerations (exact_state), the energy account over the `gap` s since the last state
@@ -410,7 +410,7 @@ def exact_point(t, gap, structure, ground, motion, work, exact, peaks, g):
     return agx, agy
 
 
-@kernel
+@kernel(**INTERNAL)
 def state_series(u, v, a_rel, sx, sy, structure, series, series_k):
     """The exact motion's derivatives at a state reached by exact propagation: series[j] =
     u⁽ʲ⁾ for j = 0 … R − 1 (R = series.shape[0]), from u, v, a_rel and the ground acceleration's
@@ -438,7 +438,7 @@ def state_series(u, v, a_rel, sx, sy, structure, series, series_k):
                 series[3, d + 1] -= sy
 
 
-@kernel(fastmath=REASSOCIATE)
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
 def propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_count, mass, ground, x, y, acc):
     """(u, v) at t + h from (u, v) at t, exactly, building by building, and the exact work
     over the step of the ground, into acc[ACC_STEP_INPUT], and of the damping, into
@@ -494,7 +494,7 @@ def propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_c
     acc[ACC_STEP_DAMPING] = w_damp
 
 
-@kernel
+@kernel(**INTERNAL)
 def propagate_elastic(t, h, phi, g0, g1, mean_rows, damping_form, structure, ground, exact, motion, has_members):
     """propagate() of the exact state (motion.u, exact.v) over h about the static offset
     exact.u_static of the members' plastic deflections (the work is the same: the offset is
@@ -510,7 +510,7 @@ def propagate_elastic(t, h, phi, g0, g1, mean_rows, damping_form, structure, gro
             u[d] += u_static[d]
 
 
-@kernel
+@kernel(**INTERNAL)
 def _enter_cdm(step, structure, exact, motion, work):
     """Hand the exact state at an instant already accounted for to the CDM at `step` s:
     v_{−½} = v − (Δt/2)·a (no contact force: none is possible yet), C·v_{−½}."""
@@ -524,7 +524,7 @@ def _enter_cdm(step, structure, exact, motion, work):
     motion.energy[ACC_FRESH] = 1.0  # the instant is already integrated
 
 
-@kernel
+@kernel(**INTERNAL)
 def _leave_cdm(t, step, structure, ground, propagators, exact, motion, work, yielding):
     """Hand the CDM's state at t back to the exact propagation: v_n = v_{n−½} + Δv_n/2 (no
     contact force), the energy account closed up to t_n; with yielding members, their static

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from .jit import INTERNAL, kernel
 from .tunables import PLASTIC_SUBSTEP
 
 
@@ -220,7 +220,7 @@ def plastic_correction(members, plastic, g):
         scatter_member(m, kh[m, 0] * plastic[m, 0], kh[m, 1] * plastic[m, 1], bottom, top, arm_b, arm_t, axes, g)
 
 
-@kernel
+@kernel(**INTERNAL)
 def plastic_energy_terms(u, g, members, plastic):
     """−uᵀg + ½·Σ k_h ⊙ p²: what the plastic deflections change in the strain energy ½uᵀKu, J."""
     kh = members.kh
@@ -232,7 +232,7 @@ def plastic_energy_terms(u, g, members, plastic):
     return e
 
 
-@kernel
+@kernel(**INTERNAL)
 def member_states(u, members, plastic, k, out_member, peak_member):
     """Deflection and force of every member at u: into the output row k (k ≥ 0) and the
     running peaks (|δ_x|, |δ_y|, |δ|, |f_x|, |f_y|, |f|)."""
@@ -252,7 +252,7 @@ def member_states(u, members, plastic, k, out_member, peak_member):
                 peak_member[m, j] = size[j]
 
 
-@kernel
+@kernel(**INTERNAL)
 def yield_possible_within(horizon, u, v, a, members, plastic):
     """Whether some member may reach its yield surface within `horizon` s: its plastic-spring
     force bounded by |f| + k_h·(|δ̇|·H + ½|δ̈|·H²) per axis (δ̇, δ̈ from v and a)."""

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from .jit import INTERNAL, kernel, phase
 from .tunables import CREST_NEWTON_STEPS, SERIES_MAX_ORDER, SERIES_MIN_ORDER, SERIES_REMAINDER
 
 
@@ -56,7 +56,7 @@ def storey_deflection(u, t, b, c, sn, centre):
     return c * ax + sn * ay, c * ay - sn * ax, u[3 * t + 2] - u[3 * b + 2]
 
 
-@kernel(inline="always")
+@phase
 def update_peaks(u, acc_abs, structure, storey_work, peaks):
     """Running maxima (peaks: records.Peaks) at the state u with absolute accelerations
     acc_abs: column deflections in building axes, storey twist, floor motion.
@@ -150,7 +150,8 @@ def _crest_at(q0, c, a2, a3, a4, a5, lo, hi, floor, kind, index, crests, n):
     return n + 1
 
 
-@kernel(inline="always")
+@kernel("int64(float64, float64, float64, float64, float64, float64, float64, float64, int64, int64, float64[:, ::1], "
+        "int64)", forceinline=True)  # fmt: skip
 def quintic_crests(q0, m0, c0, q1, m1, c1, h, floor, kind, index, crests, n):
     """Lists the stationary points inside (0, h) of the quintic q(τ) through the values q,
     rates m and second derivatives c at both ends (one unit per derivative, h in s) where
@@ -239,7 +240,7 @@ def _series_at(b, n_c, sigma):
     return p, d1, 2.0 * d2
 
 
-@kernel
+@kernel(**INTERNAL)
 def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
     """The exact values of the n crests quintic_crests listed (crest.crests) over the step of
     h s that ends at the state of crest.series (hybrid.state_series: u⁽ʲ⁾ there, row j),
@@ -319,7 +320,7 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
     return between, first
 
 
-@kernel
+@kernel(**INTERNAL)
 def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks):
     """After update_peaks at an exact state (u, v = exact.v) with relative and absolute
     accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
