@@ -221,6 +221,53 @@ def ratio(a: str, b: str, digits: str = "2") -> str:
     return f"{float(a) / float(b):.{int(digits)}g}"
 
 
+@registered("front")
+def front() -> str:
+    """In how many scenes (bench.md and kobe.md) the default is on the front: 'all eight'."""
+    scenes = [(f, s) for f in ("bench", "kobe") for s in bench_file(f)]
+    on = sum(bench_cell(f, s, DEFAULT, "front") == "●" for f, s in scenes)
+    words = {8: "eight", 7: "seven", 6: "six", 9: "nine"}
+    return f"all {words.get(on, on)}" if on == len(scenes) else f"{on} of the {len(scenes)}"
+
+
+@registered("steps-more")
+def steps_more(scene: str, setting: str, than: str = DEFAULT) -> str:
+    """How many more steps `setting` takes than `than` in a bench scene."""
+    file, name = scene_of(scene)
+    more = bench_number(file, name, setting, "steps") - bench_number(file, name, than, "steps")
+    return f"{int(more):,}"
+
+
+@registered("stab-sci")
+def stability_sci(case: str, column: str = "energy balance") -> str:
+    return sci(float(bench_cell("stability", "", case, column)))
+
+
+@registered("stab-max-balance")
+def stability_max_balance(*excluded: str) -> str:
+    """The largest energy balance error of the stress cases that complete, but those named
+    and the CDM's steps near its limit."""
+    rows = bench_file("stability")[""]["rows"]
+    values = [float(r["energy balance"]) for case, r in rows.items()
+              if r["outcome"] == "complete" and not case.startswith("CDM at") and case not in excluded]  # fmt: skip
+    return sci(max(values), 1)
+
+
+@registered("kobe-sens")
+def kobe_sensitivity(row: str, column: str, table: str = "0") -> str:
+    """A cell of docs/bench/kobe-sensitivity.md (docs/kobe_sensitivity.py): table 0 is the
+    errors at each contact step, table 1 the default's errors in full."""
+    text = (ROOT / "docs" / "bench" / "kobe-sensitivity.md").read_text(encoding="utf-8")
+    tables = [t for t in re.split(r"\n\s*\n", text) if t.lstrip().startswith("|")]
+    lines = [ln for ln in tables[int(table)].strip().splitlines() if not set(ln) <= set("|-: ")]
+    header = [c.strip() for c in lines[0].strip().strip("|").split("|")]
+    for line in lines[1:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0] == row:
+            return cells[header.index(column)].removesuffix(" %")
+    raise KeyError(f"docs/bench/kobe-sensitivity.md has no row {row!r}")
+
+
 SCENE_LABELS = {
     "linear": "linear: the paper's buildings apart, 34 s",
     "paper_pounding": "paper_pounding: 5 cm gap, Ridgecrest × 1.5, 20 s",
@@ -433,6 +480,21 @@ def validate_value(model: str, key: str, fmt: str = "") -> str:
     for part in key.split("."):
         value = value[int(part)] if isinstance(value, list) else value[part]
     return format(value, fmt) if fmt else str(value)
+
+
+@registered("periods-table")
+def periods_table(model: str, count: str = "6") -> str:
+    """The first periods of each building of MODEL, each labelled (x, y, θ) by the direction
+    that holds most of its participating mass (when that is above half), as `pound validate`
+    prints them."""
+    lines = ["| building | T₁ … T₆ (s) |", "| --- | --- |"]
+    for b in describe(model)["buildings"]:
+        cells = []
+        for period, mass in list(zip(b["periods_s"], b["participating_mass_ratio_x_y_theta"], strict=True))[: int(count)]:
+            k = max(range(3), key=lambda i: mass[i])
+            cells.append(f"{period:.4f}" + (f" ({'xyθ'[k]})" if mass[k] > 0.5 else ""))
+        lines.append(f"| {b['name']}, {b['storeys']} storeys | " + ", ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 @cache

@@ -74,9 +74,9 @@ def markdown(measured: dict) -> str:
     """The result file: the largest relative error of any peak interstorey deflection at each
     contact step (as a fraction of 2/ω_contact), then the default's errors in full."""
     fraction = 0.00625  # the automatic contact step, × 2/ω_contact
-    steps = [f"{fraction * s:.2g}" + (" (default)" if s == 1 else "") for s in SCALES]
+    steps = [f"{fraction * s:g}" + (" (default)" if s == 1 else "") for s in SCALES]
     lines = ["| | 1/256 (the reference's error) | " + " | ".join(steps)
-             + f" | record × (1 + 10⁻⁴), at {fraction * FINE:.2g} |",
+             + f" | record × (1 + 10⁻⁴), at {fraction * FINE:g} |",
              "| --- |" + " ---: |" * (len(SCALES) + 2)]  # fmt: skip
     for label, (own, errors, moved) in measured.items():
         cells = [sci(own.peak_deflection)] + [pct(errors[s].peak_deflection) for s in SCALES] + [pct(moved.peak_deflection)]
