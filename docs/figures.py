@@ -525,6 +525,53 @@ def record_table() -> str:
     return "\n".join(lines)
 
 
+def _arias(path: str, trace: str) -> tuple[float, float]:
+    """(pound's exact I_A, the trapezoid rule's I_A) of one trace of a record file, m/s."""
+    import math
+
+    import numpy as np
+
+    from pounding_cli.records import read_accelerogram
+    from pounding_cli.records.metrics import metrics
+
+    full = ROOT / path
+    if not full.exists() and "shared" in path:
+        raise NeedsShared(f"{path} is kept in ../shared, which is absent")
+    rec = read_accelerogram(full, trace=trace or None, units=None if full.suffix.upper() == ".AT2" else "m/s2")
+    a, dt = rec.acceleration, rec.dt
+    trapezoid = math.pi / (2 * 9.80665) * float(np.sum(dt * (a[:-1] ** 2 + a[1:] ** 2) / 2))
+    return metrics(a, dt).arias_intensity, trapezoid
+
+
+@registered("d5-95-trapezoid")
+def d5_95_trapezoid(path: str, trace: str, fmt: str = ".2f") -> str:
+    """D5-95 (s) of a record file's trace with the Arias build-up by the trapezoid rule,
+    the 5 % and 95 % times interpolated between samples."""
+    import numpy as np
+
+    from pounding_cli.records import read_accelerogram
+
+    full = ROOT / path
+    if not full.exists() and "shared" in path:
+        raise NeedsShared(f"{path} is kept in ../shared, which is absent")
+    rec = read_accelerogram(full, trace=trace or None, units=None if full.suffix.upper() == ".AT2" else "m/s2")
+    a, dt = rec.acceleration, rec.dt
+    build_up = np.concatenate([[0.0], np.cumsum(dt * (a[:-1] ** 2 + a[1:] ** 2) / 2)])
+    t = np.arange(a.size) * dt
+    t5, t95 = np.interp([0.05 * build_up[-1], 0.95 * build_up[-1]], build_up, t)
+    return format(t95 - t5, fmt)
+
+
+@registered("arias")
+def arias(path: str, trace: str, rule: str = "exact", fmt: str = ".3f") -> str:
+    """The Arias intensity of a record file's trace by pound's exact rule or the trapezoid
+    rule on the samples, m/s; rule "excess": how much more the trapezoid gives, in %."""
+    exact, trapezoid = _arias(path, trace)
+    if rule == "excess":
+        return f"{100 * (trapezoid / exact - 1):{fmt}}"
+    return format(exact if rule == "exact" else trapezoid, fmt)
+
+
 @registered("record")
 def record_value(path: str, component: str, key: str, fmt: str = ".4g") -> str:
     """A key of one component (by name or index) of `pound record PATH --json`."""
