@@ -313,8 +313,12 @@ def checkout(tmp: Path) -> Path:
 
 
 def environment() -> dict[str, str]:
+    """The commands' environment: this one, with a fixed terminal width and no colour, and
+    this Python's folder first on PATH, so that `pound` and `python` are the ones this build
+    runs with, whether or not its virtual environment is activated."""
     env = {k: v for k, v in os.environ.items() if k not in UNSET}
     env.update(ENV)
+    env["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), env.get("PATH", "")])
     return env
 
 

@@ -380,7 +380,7 @@ def run_json(model: str) -> dict:
         raise NeedsShared(f"{model} reads a record kept in ../shared, which is absent")
     folder = Path(tempfile.mkdtemp(prefix="pound-figures-"))
     output = folder / (path.stem + ".h5")
-    out = subprocess.run(["pound", "run", str(path), "-o", str(output), "--json"],
+    out = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(path), "-o", str(output), "--json"],
                          capture_output=True, text=True, check=True).stdout  # fmt: skip
     _RUNS[model] = output
     return json.loads(out)
@@ -501,7 +501,8 @@ def periods_table(model: str, count: str = "6") -> str:
 def record_json(path: str, *options: str) -> dict:
     if "shared/records" in _record_text(ROOT / path) and not (ROOT.parent / "shared").is_dir():
         raise NeedsShared(f"{path} reads a record kept in ../shared, which is absent")
-    out = subprocess.run(["pound", "record", str(ROOT / path), "--json", *options], capture_output=True, text=True,
+    out = subprocess.run([sys.executable, "-m", "pounding_cli", "record", str(ROOT / path), "--json", *options],
+                         capture_output=True, text=True,
                          check=True).stdout  # fmt: skip
     return json.loads(out)
 
