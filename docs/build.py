@@ -37,6 +37,8 @@ comes from, and this script reruns it and rewrites the block in place. The marke
 ``<!-- fig: NAME ARGS -->VALUE<!-- /fig -->``
     A figure inside a sentence, made by docs/figures.py (from the bench's result files in
     docs/bench/, or from a run).
+Any marker takes ``needs=shared`` among its options: it is skipped (and said so) where
+``../shared`` is absent, as in a clone without the project's record copies.
 ``<!-- not-run: REASON -->`` before a fenced block
     A block of commands deliberately not run (a placeholder name, a cluster address), with
     the reason. Every other fenced block that holds a ``$`` prompt or shell commands calling
@@ -377,13 +379,15 @@ class State:
 
 
 def shell(command: str, state: State, cwd: Path, timeout: float = 1800) -> tuple[int, str, str]:
-    """Exit code, stdout+stderr interleaved, and stdout alone... of a bash command."""
+    """Exit code and output of a bash command: stdout and stderr interleaved as a terminal
+    shows them (Python unbuffered), and no separate stderr."""
     p = subprocess.run(["bash", "-c", command], cwd=cwd, env=state.env, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, timeout=timeout)  # fmt: skip
     return p.returncode, p.stdout.decode("utf-8", "replace"), ""
 
 
 def shell_stdout(command: str, state: State, cwd: Path) -> tuple[int, str, str]:
+    """Exit code, stdout and stderr of a bash command, apart."""
     p = subprocess.run(["bash", "-c", command], cwd=cwd, env=state.env, capture_output=True, timeout=1800)
     return p.returncode, p.stdout.decode("utf-8", "replace"), p.stderr.decode("utf-8", "replace")
 

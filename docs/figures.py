@@ -11,8 +11,10 @@ never from the build's own runs, so that the build gives the same page on every 
 
 from __future__ import annotations
 
+import atexit
 import json
 import re
+import shutil
 import subprocess
 import sys
 from collections.abc import Callable
@@ -122,12 +124,6 @@ def error_percent(scene: str, setting: str = DEFAULT, column: str = "peak deflec
     return percent(bench_number(*scene_of(scene), setting, column))
 
 
-@registered("error-raw")
-def error_raw(scene: str, setting: str = DEFAULT, column: str = "peak deflection error") -> str:
-    """An error column of a bench row as the bench prints it (1.5e-07)."""
-    return bench_cell(*scene_of(scene), setting, column)
-
-
 @registered("speedup")
 def speedup(scene: str, against: str = CDM_PAPER) -> str:
     """How many times faster the default is than `against` (the CDM at the paper's 10 µs)."""
@@ -177,18 +173,6 @@ def halving(scene: str) -> str:
     return sci(_scene_figure(scene, r"halving its Δt changes peak deflections by ([0-9.e+-]+)"))
 
 
-@registered("sensitivity")
-def sensitivity(scene: str, form: str = "sci") -> str:
-    """How far the scene's peaks move when its record is scaled by 1 + 10⁻⁴."""
-    value = _scene_figure(scene, r"Scaling the record by 1 \+ 0\.0001 changes peak deflections by ([0-9.e+-]+)")
-    return percent(value) if form == "%" else sci(value)
-
-
-@registered("solver-percent-of")
-def solver_fraction(scene: str, setting: str, of: str = DEFAULT) -> str:
-    return seconds(bench_number(*scene_of(scene), setting, "solver (s)"))
-
-
 @registered("bench-include")
 def bench_include(path: str) -> str:
     """A result file of docs/bench/ whole (a table)."""
@@ -213,12 +197,6 @@ def scaling_range(column: str) -> str:
 @registered("scaling")
 def scaling_cell(buildings: str, column: str) -> str:
     return bench_cell("scaling", "", buildings, column)
-
-
-@registered("ratio")
-def ratio(a: str, b: str, digits: str = "2") -> str:
-    """a / b of two numbers written out (for ratios of figures quoted beside it)."""
-    return f"{float(a) / float(b):.{int(digits)}g}"
 
 
 @registered("front")
@@ -379,6 +357,7 @@ def run_json(model: str) -> dict:
     if "shared/records" in _record_text(path) and not (ROOT.parent / "shared").is_dir():
         raise NeedsShared(f"{model} reads a record kept in ../shared, which is absent")
     folder = Path(tempfile.mkdtemp(prefix="pound-figures-"))
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
     output = folder / (path.stem + ".h5")
     out = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(path), "-o", str(output), "--json"],
                          capture_output=True, text=True, check=True).stdout  # fmt: skip

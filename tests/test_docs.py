@@ -312,6 +312,24 @@ def test_a_failing_command_is_an_error_naming_it(build, tmp_path, monkeypatch):
     assert errors and errors[0].startswith("page.md:1: run(exit=2): false\n  exited with 1, expected 2")
 
 
+def test_what_needs_shared_is_skipped_without_it(build, tmp_path, monkeypatch):
+    """A block marked needs=shared, and a figure of a record kept in ../shared, are skipped and
+    listed, not failed, where ../shared is absent (a clone on its own)."""
+    project = tmp_path / "project"
+    (project / "docs").mkdir(parents=True)
+    (project / "docs" / "figures.py").write_text((DOCS / "figures.py").read_text(encoding="utf-8"), encoding="utf-8")
+    (project / "page.md").write_text("<!-- run(needs=shared): false -->\n```text\n```\n\n"
+                                     "<!-- fig: arias ../shared/records/x.AT2 '' -->1<!-- /fig -->\n",
+                                     encoding="utf-8")  # fmt: skip
+    monkeypatch.setattr(build, "ROOT", project)
+    state = build.State(project, build.environment())
+    errors: list[str] = []
+    old, new, changes = build.build_page("page.md", state, errors)
+    assert not errors and not changes and new == old
+    assert [line.split(" (")[0] for line in state.skipped] == ["page.md:1: run(needs=shared): false",
+                                                               "page.md:5: fig: arias ../shared/records/x.AT2 ''"]  # fmt: skip
+
+
 @pytest.mark.slow
 def test_the_docs_are_what_the_code_gives():
     """`python docs/build.py --check`: every transcript, figure, table, generated page and
