@@ -247,10 +247,8 @@ def convergence_text(results: dict[str, dict], finer: dict[str, dict[float, dict
 
 
 def page(results: dict[str, dict], run: dict, finer: dict[str, dict[float, dict]]) -> str:
-    timing = (f"The sweep's {run['cases']} cases ({run['runs']} distinct runs) took {run['wall_s']:.0f} s on "
-              f"2 cores with `pound sweep --jobs {run['jobs']}`.")  # fmt: skip
-    if run["ran"] < run["runs"]:
-        timing += f" (This time {run['ran']} of them ran, the others were complete already.)"
+    timing = (f"The sweep has {run['cases']} cases ({run['runs']} distinct runs); how long such a sweep takes "
+              "is measured in [sweep.md](sweep.md#the-papers-studies).")  # fmt: skip
     r61 = [results[k] for k in results if k.startswith("6.1")]
     r62 = [results[k] for k in results if k.startswith("6.2")]
     r63 = [results[f"6.3 θ = {a}°"] for a in STOREY_ANGLES]
@@ -260,13 +258,16 @@ def page(results: dict[str, dict], run: dict, finer: dict[str, dict[float, dict]
         f"{1e3 * max(s[2] for s in v['c9']):.3f} |"
         for k, v in results.items() if k.startswith("6.3") and v["angle"] in ANGLES
     )
-    return f"""# The paper's example: the studies of section 6
+    return f"""<!-- Generated whole by docs/paper_studies.py; do not edit by hand. Rebuild with
+python docs/build.py paper-example, check with python docs/build.py --check. -->
+# The paper's example: the studies of section 6
 
 Polycarpou & Komodromos (2013), section 6, studied two adjacent buildings pounding under the
 1995 Kobe record of the JMA Kobe station. This page runs the same studies with pound and
 reports what they give. The studies are the sweep file `inputs/paper_studies.sweep.toml`; this
-page is generated from its summary by `python docs/paper_studies.py` (which needs the record,
-PEER NGA-West2 RSN1106, in `../shared/records/`; see `inputs/paper_kobe.toml`).
+page is generated from its summary by `python docs/paper_studies.py`, through `python
+docs/build.py`, which CI checks (it needs the record, PEER NGA-West2 RSN1106, in
+`../shared/records/`, and is skipped without it; see `inputs/paper_kobe.toml`).
 Nothing was tuned to reproduce the paper's figures.
 
 ## The model

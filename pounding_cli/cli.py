@@ -329,7 +329,8 @@ def record(
     "For every scene (the shipped ones, or --scene files), a reference run at a far smaller Δt, "
     "then each integrator setting, timed (median of --repeats, solver only) and compared with "
     "the reference. Prints the table and writes bench.h5, bench.md and bench.png into --out. "
-    "--quick: a short version for CI (under 2 minutes)."
+    "--quick: a short version (three settings, the first 15 s, one repeat); docs/bench.md gives "
+    "how long it took."
 )
 def bench(
     scene: Annotated[list[Path] | None, typer.Option("--scene", help="A model file to bench (repeatable).")] = None,
@@ -381,17 +382,27 @@ def bench(
             raise typer.Exit(1)
         return
 
+    import os
+    import time
+
     models = list(scene) if scene else scene_files()
     if quick and not scene:
         models = [m for m in models if m.stem != "stiff_contact"]
     with reported():
         out_dir.mkdir(parents=True, exist_ok=True)
+        start, load = time.perf_counter(), f"{os.getloadavg()[0]:.1f}"
         reports = run_bench(
             models, QUICK_SETTINGS if quick else SETTINGS, repeats=1 if quick else repeats,
             reference_divisor=1 if quick else 4, duration=15.0 if quick else None,
             log=lambda text: err.print(text, markup=False),
         )  # fmt: skip
-        text = markdown(reports)
+        elapsed = round(time.perf_counter() - start)
+        took = f"{elapsed // 60} min {elapsed % 60} s" if elapsed >= 60 else f"{elapsed} s"
+        text = markdown(reports) + (
+            f"\nThis bench (`pound bench{' --quick' if quick else ''}`, {len(models)} scenes) took {took} "
+            f"of wall time on {os.cpu_count()} CPUs, references included (load average {load} at the start, "
+            f"{os.getloadavg()[0]:.1f} at the end).\n"
+        )
         write_text(out_dir / "bench.md", text)
         write_hdf5(reports, out_dir / "bench.h5")
         plot(reports, out_dir / "bench.png")

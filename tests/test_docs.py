@@ -1,21 +1,17 @@
 """The docs agree with the code.
 
-- the generated references (docs/reference/*.md) equal a fresh generation;
+- every page's marked blocks, generated pages and images equal a fresh rebuild by
+  docs/build.py (the slow check; its parts that need no run are checked fast too);
+- the mechanism itself: a changed block is found and named, run-dependent output is masked;
 - every command has a help text and is documented in the CLI reference and the user guide;
 - every field of every input model is in the model-fields reference;
-- the TOML blocks of the user guide parse, complete models validate (and assemble, with
-  their records found relative to docs/), and blocks quoted from an input file are verbatim;
-- the Python snippets of the user guide run against a fresh result of the worked example;
-- the error messages quoted in the user guide are what `pound validate` prints.
+- the TOML blocks of the user guide parse.
 """
 
 from __future__ import annotations
 
-import contextlib
 import importlib.util
-import os
 import re
-import shutil
 import sys
 import tomllib
 import typing
@@ -24,21 +20,19 @@ from pathlib import Path
 import pytest
 import typer
 from pydantic import BaseModel
-from typer.testing import CliRunner
 
 import pounding_cli
 from pounding_cli.cli import app
-from pounding_cli.model import PoundModel, validate_model
+from pounding_cli.model import PoundModel
 
 REPO = Path(__file__).resolve().parents[1]
 DOCS = REPO / "docs"
 GUIDE = DOCS / "user-guide.md"
-REGENERATE = "run python docs/generate_reference.py"
-ERROR_DIR = "/tmp/project/inputs"  # the folder the guide's error examples were run in
+REGENERATE = "run python docs/build.py references"
 
 
-def _generator():
-    spec = importlib.util.spec_from_file_location("generate_reference", DOCS / "generate_reference.py")
+def _module(name: str):
+    spec = importlib.util.spec_from_file_location(name, DOCS / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses look their module up while the class is built
     spec.loader.exec_module(module)
@@ -47,7 +41,12 @@ def _generator():
 
 @pytest.fixture(scope="module")
 def generator():
-    return _generator()
+    return _module("generate_reference")
+
+
+@pytest.fixture(scope="module")
+def build():
+    return _module("build")
 
 
 def _blocks(text: str, language: str) -> list[tuple[int, str, str]]:
@@ -73,11 +72,10 @@ def _blocks(text: str, language: str) -> list[tuple[int, str, str]]:
 # --- (a) generated references ----------------------------------------------------------------
 
 
-def test_generated_references_are_up_to_date(generator):
-    for path, text in generator.generated_files().items():
-        assert path.exists(), f"{path.relative_to(REPO)} is missing: {REGENERATE}"
-        on_disk = path.read_text(encoding="utf-8")
-        assert on_disk == text, f"{path.relative_to(REPO)} is out of date: {REGENERATE}"
+def test_generated_references_are_up_to_date(build):
+    """The CLI and model-field references, as docs/build.py rebuilds them (fast: no runs)."""
+    outcome = build.build(["references"], check=True)
+    assert outcome.ok, "\n".join(outcome.errors + outcome.changes) + f"\n{REGENERATE}"
 
 
 def test_generation_is_deterministic(generator):
@@ -229,81 +227,116 @@ def test_every_toml_block_parses():
             pytest.fail(f"docs/user-guide.md line {line}: TOML block does not parse: {exc}")
 
 
-def test_complete_models_validate():
-    complete = [(line, body) for line, marker, body in _toml_blocks() if "complete-model" in marker]
-    assert complete, "docs/user-guide.md has no block marked <!-- complete-model -->"
-    for line, body in complete:
-        source = DOCS / "x.toml"
-        loaded = validate_model(tomllib.loads(body), source=source)
-        for name in ("L", "T"):
-            component = getattr(loaded.model.excitation.record, name)
-            if component is not None:
-                path = loaded.resolve(component.file)
-                assert path.is_file(), f"docs/user-guide.md line {line}: record {component.file} not found from docs/"
-        info = pounding_cli.describe(loaded)  # assembles it and reads the record
-        assert info["analysis"]["steps"] > 0, f"docs/user-guide.md line {line}"
+# --- docs/build.py: the check, and the mechanism ----------------------------------------------
 
 
-def test_quoted_blocks_are_verbatim():
-    quoted = [(line, marker, body) for line, marker, body in _toml_blocks() if "from:" in marker]
-    assert quoted, "docs/user-guide.md quotes nothing from the example"
-    for line, marker, body in quoted:
-        source = REPO / marker.removeprefix("<!--").removesuffix("-->").strip().removeprefix("from:").strip()
-        assert body in source.read_text(encoding="utf-8"), (
-            f"docs/user-guide.md line {line}: the block is no longer a verbatim part of {source.relative_to(REPO)}"
-        )
-
-
-# --- the Python snippets ----------------------------------------------------------------------
-
-
-def test_python_snippets_run(tmp_path, monkeypatch):
-    snippets = [(line, body) for line, marker, body in _blocks(GUIDE.read_text(encoding="utf-8"), "python")
-                if "runnable" in marker]  # fmt: skip
-    assert snippets, "docs/user-guide.md has no block marked <!-- runnable -->"
-    shutil.copytree(REPO / "inputs", tmp_path / "inputs")
-    monkeypatch.chdir(tmp_path)
-    result = pounding_cli.run_model("inputs/paper_wide_gap.toml", output="paper_wide_gap.h5")
-    assert result.complete
-    for line, body in snippets:
+def test_pages_follow_the_rules(build):
+    """Fast, without running anything: every page's markers parse, every transcript or shell
+    block carries a marker, and every block quoted from a file is verbatim."""
+    problems = []
+    for page in build.PAGES:
+        text = (REPO / page).read_text(encoding="utf-8")
         try:
-            exec(compile(body, f"docs/user-guide.md:{line}", "exec"), {"__name__": "__snippet__"})
-        except Exception as exc:  # noqa: BLE001 - report which snippet failed
-            pytest.fail(f"docs/user-guide.md line {line}: snippet failed: {type(exc).__name__}: {exc}")
-    assert os.path.exists("left_right.h5")
+            blocks = build.parse(text, page)
+        except build.BuildError as exc:
+            problems.append(str(exc))
+            continue
+        problems += build.unmarked_transcripts(text, page, blocks)
+        for block in blocks:
+            if block.kind == "from":
+                source = REPO / block.arg
+                if not source.is_file() or block.body not in source.read_text(encoding="utf-8"):
+                    problems.append(f"{block.where}: no longer a verbatim part of {block.arg}")
+    assert not problems, "\n".join(problems)
 
 
-# --- the error messages quoted in the user guide ----------------------------------------------
+def test_every_page_is_built():
+    """README.md and every Markdown page under docs/ is either in build.PAGES (its marked
+    blocks rebuilt) or written whole by one of build.GENERATORS (docs/bench/ holds the
+    bench's own result files, which the pages quote)."""
+    build = _module("build")
+    generated = {out for gen in build.GENERATORS for out in gen.outputs}
+    pages = {"README.md", *(str(p.relative_to(REPO)) for p in DOCS.rglob("*.md"))}
+    pages = {p for p in pages if not p.startswith("docs/bench/")}
+    missing = sorted(pages - set(build.PAGES) - generated)
+    assert not missing, f"pages the docs build does not cover: {missing}"
 
 
-def error_examples(text: str) -> list[tuple[int, str, str, str]]:
-    """(line, old, new, quoted output) of every text block marked <!-- error-example: old => new -->."""
-    out = []
-    for line, marker, body in _blocks(text, "text"):
-        match = re.fullmatch(r"<!-- error-example: (.+?) => (.+?) -->", marker)
-        if match:
-            out.append((line, match.group(1), match.group(2), body))
-    return out
+PAGE = """# A page
+
+<!-- run: echo "pound 0.1.0" -->
+```text
+$ echo "pound 0.1.0"
+pound 0.0.9
+```
+
+<!-- run: printf 'solver 0.0123 s (4.56 µs/step)\\n│ solver 0.5 s (1.2 µs/step); compile 0.3 s │\\n' -->
+```text
+```
+
+Prose with a figure: <!-- fig: version -->9.9<!-- /fig --> and no marker below.
+
+```sh
+pound run x.toml
+```
+"""
 
 
-def error_output(folder: Path, old: str, new: str) -> tuple[int, str]:
-    """Exit code and stderr of `pound validate model.toml` run in `folder`, where model.toml is
-    the folder's paper_wide_gap.toml with the first `old` replaced by `new`."""
-    example = (folder / "paper_wide_gap.toml").read_text(encoding="utf-8")
-    assert old in example, f"{old!r} is not in inputs/paper_wide_gap.toml"
-    (folder / "model.toml").write_text(example.replace(old, new, 1), encoding="utf-8")
-    with contextlib.chdir(folder):
-        result = CliRunner().invoke(app, ["validate", "model.toml"], env={"COLUMNS": "100"})
-    return result.exit_code, result.stderr
+def test_check_names_the_page_the_block_and_the_command(build, tmp_path, monkeypatch):
+    """A block whose command now prints something else is reported with its page, line and
+    command, and the difference; masks make timings and table cells stable; an unmarked
+    shell block is an error."""
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "figures.py").write_text((DOCS / "figures.py").read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "page.md").write_text(PAGE, encoding="utf-8")
+    monkeypatch.setattr(build, "ROOT", tmp_path)
+    state = build.State(tmp_path, build.environment())
+    errors: list[str] = []
+    old, new, changes = build.build_page("page.md", state, errors)
+    reports = [c.report() for c in changes]
+    assert reports[0].startswith('page.md:3: run: echo "pound 0.1.0"\n  differs from what it gives now:')
+    assert "-pound 0.0.9" in reports[0] and "+pound 0.1.0" in reports[0]
+    assert "solver … s (… µs/step)\n│ solver … s (… µs/step); compile … s       │" in new
+    assert f"figure: <!-- fig: version -->{pounding_cli.__version__}<!-- /fig -->" in new
+    assert errors == ["page.md:15: a transcript or shell block without a marker (<!-- run: … -->, <!-- sh -->, "
+                      "or <!-- not-run: reason -->)"]  # fmt: skip
+    _, again, changes = build.build_page("page.md", state, [])
+    assert again == new and len(changes) == 3, "rebuilding in place must leave the text as the first build wrote it"
 
 
-def test_quoted_error_messages_are_real(tmp_path):
-    examples = error_examples(GUIDE.read_text(encoding="utf-8"))
-    assert len(examples) >= 2, "docs/user-guide.md shows fewer than two error examples"
-    folder = tmp_path / "inputs"
-    shutil.copytree(REPO / "inputs", folder)
-    for line, old, new, body in examples:
-        code, stderr = error_output(folder, old, new)
-        assert code == 2, f"docs/user-guide.md line {line}: exit code {code}, expected 2"
-        printed = ["$ pound validate model.toml", *stderr.replace(str(folder), ERROR_DIR).strip().splitlines()]
-        assert printed == body.strip().splitlines(), f"docs/user-guide.md line {line}: the quoted message changed"
+def test_a_failing_command_is_an_error_naming_it(build, tmp_path, monkeypatch):
+    (tmp_path / "page.md").write_text("<!-- run(exit=2): false -->\n```text\n```\n", encoding="utf-8")
+    monkeypatch.setattr(build, "ROOT", tmp_path)
+    errors: list[str] = []
+    build.build_page("page.md", build.State(tmp_path, build.environment()), errors)
+    assert errors and errors[0].startswith("page.md:1: run(exit=2): false\n  exited with 1, expected 2")
+
+
+def test_what_needs_shared_is_skipped_without_it(build, tmp_path, monkeypatch):
+    """A block marked needs=shared, and a figure of a record kept in ../shared, are skipped and
+    listed, not failed, where ../shared is absent (a clone on its own)."""
+    project = tmp_path / "project"
+    (project / "docs").mkdir(parents=True)
+    (project / "docs" / "figures.py").write_text((DOCS / "figures.py").read_text(encoding="utf-8"), encoding="utf-8")
+    (project / "page.md").write_text("<!-- run(needs=shared): false -->\n```text\n```\n\n"
+                                     "<!-- fig: arias ../shared/records/x.AT2 '' -->1<!-- /fig -->\n",
+                                     encoding="utf-8")  # fmt: skip
+    monkeypatch.setattr(build, "ROOT", project)
+    state = build.State(project, build.environment())
+    errors: list[str] = []
+    old, new, changes = build.build_page("page.md", state, errors)
+    assert not errors and not changes and new == old
+    assert [line.split(" (")[0] for line in state.skipped] == ["page.md:1: run(needs=shared): false",
+                                                               "page.md:5: fig: arias ../shared/records/x.AT2 ''"]  # fmt: skip
+
+
+@pytest.mark.slow
+def test_the_docs_are_what_the_code_gives():
+    """`python docs/build.py --check`: every transcript, figure, table, generated page and
+    image of README.md and docs/ is what the code gives now, the examples of every page run in
+    order in one scratch checkout (a few minutes; the paper's Kobe studies are skipped where
+    ../shared is absent)."""
+    build = _module("build")
+    outcome = build.build(check=True)
+    report = "\n".join(outcome.errors + outcome.changes)
+    assert outcome.ok, f"{report}\n{len(outcome.changes)} differences, {len(outcome.errors)} errors: run python docs/build.py"

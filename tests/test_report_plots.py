@@ -4,8 +4,6 @@ labels and series (checked on the matplotlib Figure objects), and the files are 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -261,13 +259,3 @@ def test_image_check_names_what_changed_in_a_figure(runs):
         f"report-impacts.png: axes[1].lines: {lines} in the docs, {lines + 1} now",
     ]
     assert script.differences({"report-impacts.png": before}, {}) == ["report-impacts.png: no longer drawn"]
-
-
-@pytest.mark.slow
-def test_docs_images_are_up_to_date():
-    """`python docs/make_report_images.py --check`: every image of docs/report.md shows what
-    the code draws now (about a minute: it runs the examples and the sweep)."""
-    r = subprocess.run([sys.executable, "docs/make_report_images.py", "--check"], cwd=ROOT, capture_output=True,
-                       text=True, timeout=1200)  # fmt: skip
-    assert r.returncode == 0, r.stdout + r.stderr
-    assert "images: up to date" in r.stdout

@@ -201,3 +201,21 @@ def test_invalid_sweep_base_is_found_relative_to_the_sweep_file(tmp_path: Path):
     (tmp_path / "sub").mkdir()
     (tmp_path / "sub" / "x.sweep.toml").write_text('base = "../m.toml"\ncases.a = {}\n', encoding="utf-8")
     assert load_sweep(tmp_path / "sub" / "x.sweep.toml").base == tmp_path / "sub" / ".." / "m.toml"
+
+
+def test_every_mistake_of_a_sweep_file_is_reported(tmp_path: Path):
+    """A sweep file with a path that fits no building and a value of the wrong type reports
+    both: the cases the bad path breaks are still validated for their other values."""
+    from pounding_cli.errors import InputError
+    from pounding_cli.sweep import plan_sweep
+
+    base = ROOT / "tests" / "invalid" / "sweep_base" / "base.toml"
+    sweep = tmp_path / "bad.sweep.toml"
+    sweep.write_text(f'base = "{base.as_posix()}"\n\n[parameters]\n"excitation.angle" = [0, "north"]\n'
+                     '"buildings.centre.floors[*].eccentricity" = [[0.0, 0.4]]\n', encoding="utf-8")  # fmt: skip
+    with pytest.raises(InputError) as info:
+        plan_sweep(sweep)
+    message = str(info.value)
+    assert "buildings has no item named 'centre'" in message
+    assert "excitation.angle: expected a number; got 'north'" in message
+    assert "[from parameters[\"excitation.angle\"] = north]" in message

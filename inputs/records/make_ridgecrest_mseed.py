@@ -21,7 +21,7 @@ from obspy import Stream, Trace, UTCDateTime
 from pounding_cli.records.metrics import Metrics, metrics
 
 HERE = Path(__file__).resolve().parent
-DEFAULT_SOURCE = HERE / "../../../shared/records/ridgecrest2019_ccc/CICCC.RAW"
+DEFAULT_SOURCE = HERE / "CICCC.RAW"
 DEFAULT_OUTPUT = HERE / "ridgecrest2019_ccc.mseed"
 
 CHANNELS = {1: ("90", "HNE"), 2: ("360", "HNN")}  # COSMOS channel -> (azimuth, deg; SEED code)

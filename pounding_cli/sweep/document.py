@@ -40,25 +40,36 @@ class CaseDocument:
 
 
 class CaseProblem(Exception):
-    """A case cannot be built; `key` groups the same problem met in many cases."""
+    """A case cannot be built; `key` groups the same problem met in many cases. `problems`
+    holds every (key, text) found in the case, `case` the document with the assignments that
+    did fit written in (None when the case's values conflict), so that it can still be
+    validated for problems of its other values."""
 
-    def __init__(self, key: str, text: str):
+    def __init__(self, key: str, text: str, problems: list[tuple[str, str]] | None = None,
+                 case: CaseDocument | None = None):  # fmt: skip
         super().__init__(text)
         self.key = key
         self.text = text
+        self.problems = problems or [(key, text)]
+        self.case = case
 
 
 def case_document(base: dict[str, Any], spec: CaseSpec, sweep_file: Path) -> CaseDocument:
     """The base document with the case's assignments applied in order; raises CaseProblem
-    for a path that does not fit, or a named case and a parameter setting one field."""
+    for a path that does not fit (naming every such path of the case, each once), or a named
+    case and a parameter setting one field."""
     case = CaseDocument(spec, copy.deepcopy(base))
+    problems = []
     for assignment in spec.assignments:
         try:
             locations = assign(case.document, assignment.steps, assignment.value)
         except PathError as exc:
-            raise CaseProblem(f"{assignment.origin}: {exc}",
-                              f"{sweep_file}: {assignment.origin}: case {spec.label!r}: {exc}") from None  # fmt: skip
+            problems.append((f"{assignment.origin}: {exc}",
+                             f"{sweep_file}: {assignment.origin}: case {spec.label!r}: {exc}"))  # fmt: skip
+            continue
         case.written.append((assignment, locations))
+    if problems:
+        raise CaseProblem(*problems[0], problems=problems, case=case)
     _check_conflicts(case, sweep_file)
     return case
 

@@ -145,7 +145,12 @@ def _documents(loaded: LoadedSweep, specs: list[CaseSpec], paths: list[str]) -> 
             doc = case_document(base, spec, loaded.source)
             model = validate_model(doc.document, loaded.base)
         except CaseProblem as exc:
-            problems.append((exc.key, exc.text))
+            problems += exc.problems
+            if exc.case is not None:  # the values that did fit may hold mistakes of their own
+                try:
+                    validate_model(exc.case.document, loaded.base)
+                except InputError as invalid:
+                    problems += describe_problem(exc.case, str(invalid), loaded.base, loaded.source)
             continue
         except InputError as exc:
             problems += describe_problem(doc, str(exc), loaded.base, loaded.source)

@@ -22,7 +22,7 @@ DATA = Path(__file__).resolve().parent / "data"
 SYNTHETIC = DATA / "synthetic.AT2"
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "records"
 KOBE = SHARED / "kobe1995_kjma"
-RAW = SHARED / "ridgecrest2019_ccc" / "CICCC.RAW"
+RAW = Path(__file__).resolve().parents[2] / "inputs" / "records" / "CICCC.RAW"  # shipped (USGS, CC0)
 needs_kobe = pytest.mark.skipif(
     not KOBE.is_dir(), reason=f"PEER Kobe records absent: {KOBE} (never copied into the repo: PEER terms)"
 )

@@ -22,7 +22,7 @@ REPO = Path(__file__).resolve().parents[2]
 DATA = Path(__file__).resolve().parent / "data"
 V1 = DATA / "synthetic_2ch.V1"
 V2 = DATA / "synthetic_2ch.V2"
-RAW = Path(__file__).resolve().parents[3] / "shared" / "records" / "ridgecrest2019_ccc" / "CICCC.RAW"
+RAW = Path(__file__).resolve().parents[2] / "inputs" / "records" / "CICCC.RAW"  # shipped (USGS, CC0)
 needs_raw = pytest.mark.skipif(not RAW.is_file(), reason=f"USGS Ridgecrest CICCC.RAW absent: {RAW}")
 
 # Ridgecrest CI.CCC: channel -> (points, azimuth, SEED channel, peak g, time of the peak in s)

@@ -18,7 +18,7 @@ from conftest import EXAMPLE, INPUTS, SHARED, example_doc
 
 KOBE = SHARED / "records" / "kobe1995_kjma"
 needs_kobe = pytest.mark.skipif(not KOBE.is_dir(), reason=f"PEER Kobe records absent: {KOBE}")
-RAW = SHARED / "records" / "ridgecrest2019_ccc" / "CICCC.RAW"
+RAW = INPUTS / "records" / "CICCC.RAW"  # shipped (USGS, CC0)
 needs_raw = pytest.mark.skipif(not RAW.is_file(), reason=f"raw COSMOS record absent: {RAW}")
 
 COMPONENT = {"file": "records/ridgecrest2019_ccc.mseed", "trace": "HNE", "units": "m/s2"}

@@ -18,7 +18,7 @@ from pounding_cli.records.metrics import metrics
 REPO = Path(__file__).resolve().parents[2]
 SHIPPED = REPO / "inputs" / "records" / "ridgecrest2019_ccc.mseed"
 SCRIPT = REPO / "inputs" / "records" / "make_ridgecrest_mseed.py"
-RAW = Path(__file__).resolve().parents[3] / "shared" / "records" / "ridgecrest2019_ccc" / "CICCC.RAW"
+RAW = Path(__file__).resolve().parents[2] / "inputs" / "records" / "CICCC.RAW"  # shipped (USGS, CC0)
 needs_raw = pytest.mark.skipif(not RAW.is_file(), reason=f"raw COSMOS record absent: {RAW}")
 
 # PGA of the processed record, measured from the shipped file (printed by the script). Not the
@@ -54,6 +54,20 @@ def test_shipped_channels_have_the_same_length():
 
 def test_shipped_file_is_small():
     assert SHIPPED.stat().st_size < 1_000_000
+
+
+def test_shipped_files_are_the_ones_the_readme_names():
+    """inputs/records/README.md gives each shipped file's sha256: CICCC.RAW byte for byte as
+    USGS publishes it, and the MiniSEED made from it."""
+    import hashlib
+
+    readme = (REPO / "inputs" / "records" / "README.md").read_text(encoding="utf-8")
+    for path in (SHIPPED, RAW):
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()
+        assert f"| `{path.name}` |" in readme and f"`{digest}`" in readme, path.name
+    assert hashlib.sha256(RAW.read_bytes()).hexdigest() == (
+        "36f3e1828cc6753d74713b141a453ea361b4c31cfe813a248f18711ae4ac98e0"  # the shared README's
+    )
 
 
 @pytest.mark.parametrize("channel, arias, d5_95", [("HNE", "2.251", "10.12"), ("HNN", "3.230", "11.03")])
