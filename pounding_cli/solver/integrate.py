@@ -351,10 +351,10 @@ def simulate(
     n_out = n_steps // stride + 1
     binv, starts, counts = step_matrices(structure, dt)
     centre, col_arm = peak_geometry(structure)
-    frame = Structure(structure.mass, damping_arrays(structure), structure.storey_k, ground_as_floor(structure),
+    structure_rec = Structure(structure.mass, damping_arrays(structure), structure.storey_k, ground_as_floor(structure),
                       structure.storey_top, starts, counts, structure.storey_axes, centre, structure.column_storey,
                       col_arm)  # fmt: skip
-    record = Ground(ground, ground_dt)
+    ground_rec = Ground(ground, ground_dt)
     # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
     v0 = np.zeros(n_dof + 3)
     if initial_velocity is not None:
@@ -376,8 +376,9 @@ def simulate(
     c = contact if contact is not None else NoContact()
     n_pairs = c.pair_a.size
     out = Output(*(np.full((n_out, n_dof), np.nan) for _ in range(3)), np.full((n_out, 2), np.nan),
-                 np.full((n_out, 7), np.nan), np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan))  # fmt: skip
-    pairs = contact_state(c, n_dof, sweep)
+                 np.full((n_out, 7), np.nan),
+                 np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan))  # fmt: skip
+    contact_rec = contact_state(c, n_dof, sweep)
     yielding = yielding_state(structure, n_out)
     n_members = yielding.plastic.shape[0]
     counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
@@ -391,20 +392,22 @@ def simulate(
         contact_step = CdmStep(h / substep, binv, stride // substep * substep, substep)
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
         yield_step = CdmStep(h / sub_y, binv_y, stride // substep * sub_y, sub_y)
-        propagators, exact = exact_branch(structure, frame, v0, h, substep, stride, ground_dt, n_pairs > 0,
+        propagators, exact = exact_branch(structure, structure_rec, v0, h, substep, stride, ground_dt, n_pairs > 0,
                                           n_members > 0)  # fmt: skip
         progress_state = Progress(np.zeros(1, dtype=np.int64), counters)
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            return hybrid.hybrid_advance(start, stop, grid, frame, record, contact_step, yield_step, propagators, exact,
-                                         motion, work, peaks, out, pairs, yielding, progress_state)  # fmt: skip
+            return hybrid.hybrid_advance(start, stop, grid, structure_rec, ground_rec, contact_step, yield_step,
+                                         propagators, exact, motion, work, peaks, out, contact_rec, yielding,
+                                         progress_state)  # fmt: skip
     else:
         unit, total = 1, n_steps
         step = CdmStep(dt, binv, stride, 1)
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            status, done = cdm.advance(start, stop, step, frame, record, motion, work, peaks, out, pairs, yielding)
+            status, done = cdm.advance(start, stop, step, structure_rec, ground_rec, motion, work, peaks, out,
+                                       contact_rec, yielding)  # fmt: skip
             counters[hybrid.CNT_CDM] += min(done, total) - start  # the pass at t_N ends the run: not a step
             if status != cdm.STATUS_OK:
                 counters[hybrid.CNT_FAILED_STEP] = done
@@ -456,7 +459,7 @@ def simulate(
         text = "failed: interrupted"
         valid = _leading_good_rows(out.displacement, out.energy)
     cut = slice(0, valid)
-    events, n_events = pairs.events, int(pairs.n_events[0])
+    events, n_events = contact_rec.events, int(contact_rec.n_events[0])
     return Response(
         time=np.arange(valid) * stride * dt,
         displacement=out.displacement[cut],
@@ -525,14 +528,16 @@ def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:
                     np.full((n_out if n_members else 0, n_members, 4), np.nan), np.zeros((n_members, 6)))  # fmt: skip
 
 
-def exact_branch(structure: StructureArrays, frame: Structure, v0: np.ndarray, h: float, substep: int, stride: int,
-                 ground_dt: float, has_pairs: bool, has_members: bool) -> tuple[Propagators, Exact]:  # fmt: skip
+def exact_branch(
+    structure: StructureArrays, structure_rec: Structure, v0: np.ndarray, h: float, substep: int, stride: int,
+    ground_dt: float, has_pairs: bool, has_members: bool,
+) -> tuple[Propagators, Exact]:
     """The hybrid's exact branch (records.Propagators, records.Exact) for substeps of h s (substep CDM steps each,
     output every `stride` steps, record samples every ground_dt s) from the velocity v0: the
     propagators of the approach levels (where contact is possible) and of a double substep
     (where its span allows it and two fit between record and output samples: ω_max·2h ≤
     CREST_SPAN), K⁻¹ (with yielding members), and the peaks' work."""
-    starts, counts = frame.dof_start, frame.dof_count
+    starts, counts = structure_rec.dof_start, structure_rec.dof_count
     n_dof = structure.mass.size
     n_storeys = structure.storey_k.shape[0]
     blocks = stiffness_blocks(structure)
@@ -547,10 +552,11 @@ def exact_branch(structure: StructureArrays, frame: Structure, v0: np.ndarray, h
     double = Propagator(*(m[levels + 1] if doubles else m[levels + 1, :0] for m in steps))
     span = rho * (2 * h if doubles else h)
     series = np.zeros((crest_series_order(span), n_dof + 3))
-    crest = Crests(1.0 - min(0.5, CREST_MARGIN * span**6 / 46080), crest_arrays(frame.column_arm.shape[0], n_storeys, n_dof),
-                   series, np.zeros((2, n_dof + 3)), np.zeros(series.shape[0]))  # fmt: skip
+    crest = Crests(1.0 - min(0.5, CREST_MARGIN * span**6 / 46080),
+                   crest_arrays(structure_rec.column_arm.shape[0], n_storeys, n_dof), series, np.zeros((2, n_dof + 3)),
+                   np.zeros(series.shape[0]))  # fmt: skip
     n2 = by_level.phi.shape[2]
-    between, first = between_arrays(structure.column_storey, frame.column_arm, n_storeys)
+    between, first = between_arrays(structure.column_storey, structure_rec.column_arm, n_storeys)
     return Propagators(by_level, double, kinv), Exact(
         np.zeros(n_dof + 3), v0.copy(), np.zeros(n_dof + 3), np.zeros(n_dof + 3), np.full(1, h), np.zeros(n2 + 4),
         np.zeros(n2), np.zeros((KEPT_ROWS, n_dof + 3)), between, first, ground_rate_response(structure), crest)

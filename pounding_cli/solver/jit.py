@@ -1,4 +1,5 @@
-"""The one decorator of pound's compiled kernels.
+"""The decorators of pound's compiled kernels: `kernel`, and `phase` for the named phases of
+a kernel (inlined by LLVM), with `INTERNAL` for kernels only compiled code calls.
 
 `kernel` is numba's njit with:
 - cache=True: compiled once per installation (see kernel_cache for keeping it fresh);
@@ -7,7 +8,8 @@
   atomic increments and decrements: the contact phase of a step with three idle pairs cost
   1.5 µs with them and 0.01–0.3 µs without (measured in a 10⁶-call loop). The option is
   numba's own (leading underscore); it is set here only, should it ever change.
-- error_model="numpy": a division never raises (every one is guarded anyway).
+- error_model="numpy": a division never raises (every one is guarded anyway);
+- forceinline=False, stated so that no kernel inherits a phase's.
 
 Dense products (the exact propagator, the storey stiffness, the CDM's block solve) take
 `fastmath=REASSOCIATE`: LLVM may reorder their sums and fuse multiply-adds, which lets it

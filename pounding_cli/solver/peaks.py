@@ -244,9 +244,9 @@ def _series_at(b, n_c, sigma):
 def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
     """The exact values of the n crests quintic_crests listed (crest.crests) over the step of
     h s that ends at the state of crest.series (hybrid.state_series: u⁽ʲ⁾ there, row j),
-    raising their running peaks (records.Peaks). A quantity q, linear in u, has the Taylor series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁)
-    about the end t₁; an absolute acceleration is ü + the ground's (agx, agy at t₁, rising
-    at sx, sy m/s³ over the step). From the quintic's crest, Newton's steps on q' find the
+    raising their running peaks (records.Peaks). A quantity q, linear in u, has the Taylor
+    series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁) about the end t₁; an absolute acceleration is ü +
+    the ground's (agx, agy at t₁, rising at sx, sy m/s³ over the step). From the quintic's crest, Newton's steps on q' find the
     exact one; every value they visit is the motion's own, so the peak takes the largest.
     crest.coef: work, as long as a column of series."""
     crests, series, coef = crest.crests, crest.series, crest.coef
@@ -323,12 +323,13 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 @kernel(**INTERNAL)
 def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks):
     """After update_peaks at an exact state (u, v = exact.v) with relative and absolute
-    accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous exact state was itself exact,
-    and the crests over it of the column deflections, storey twists, floor displacements and
-    absolute floor accelerations that may raise their running peaks are listed in `crests`
-    (quintic_crests: the quintic through values, rates and second derivatives at both ends,
-    where it passes floor_ratio × the running peak); then the state becomes the previous exact
-    state. Returns the number of crests listed, for settle_crests to value exactly.
+    accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous
+    exact state was itself exact, and the crests over it of the column deflections, storey
+    twists, floor displacements and absolute floor accelerations that may raise their running
+    peaks are listed in `crests` (quintic_crests: the quintic through values, rates and second
+    derivatives at both ends, where it passes floor_ratio × the running peak); then the state
+    becomes the previous exact state. Returns the number of crests listed, for settle_crests to
+    value exactly.
 
     rates: exact_point's (rates[2]: ȧ, rates[3]: ä less its ground part, rates[5], rates[6]:
     that part per unit ground-acceleration rate along X, Y); sx, sy: the ground acceleration's
