@@ -294,9 +294,16 @@ def describe_error(source: Path, error: dict[str, Any], root: type[BaseModel], *
     return f"{source}: {where(loc)}: {text}"
 
 
+UNION_TAGS = {("elevation", "level"), ("elevation", "range")}
+"""(field, tag) of the model's tagged unions: pydantic puts the tag of the branch it tried
+into the error's location (obstacles[0].elevation.range[0]); messages leave it out."""
+
+
 def _describe(source: Path, error: dict[str, Any]) -> str:
-    """A model file's error (describe_error)."""
-    return describe_error(source, error, PoundModel)
+    """A model file's error (describe_error), located without the tags of tagged unions."""
+    loc = tuple(error["loc"])
+    plain = tuple(p for i, p in enumerate(loc) if not (i and (loc[i - 1], p) in UNION_TAGS))
+    return describe_error(source, {**error, "loc": plain}, PoundModel)
 
 
 def _description(root: type[BaseModel], loc: tuple[Any, ...]) -> str:

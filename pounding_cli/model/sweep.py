@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
+from pydantic import Strict as StrictType
 from pydantic import (
     BaseModel, BeforeValidator, Discriminator, Field, JsonValue, PlainValidator, Tag, WithJsonSchema, model_validator,
 )  # fmt: skip
@@ -120,7 +121,7 @@ def _check_path(value: Any) -> Any:
     return value
 
 
-PathKey = Annotated[str, Field(max_length=500), BeforeValidator(_check_path)]
+PathKey = Annotated[str, StrictType(), Field(max_length=500), BeforeValidator(_check_path)]
 """A dotted path into the model document, e.g. "buildings.left.floors[*].eccentricity"."""
 
 
@@ -238,7 +239,7 @@ ParameterValues = Annotated[
     ),
 ]
 
-CaseName = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[^/\x00-\x1f\x7f]+$")]
+CaseName = Annotated[str, StrictType(), Field(min_length=1, max_length=200, pattern=r"^[^/\x00-\x1f\x7f]+$")]
 """A case's name: any text without '/' or control characters."""
 
 Overrides = dict[PathKey, Value]
@@ -252,7 +253,7 @@ def values_of(spec: list[Any] | Range | Linspace) -> list[Any]:
 class Study(Strict):
     """One study: its named cases × the combinations of its parameters (either alone works)."""
 
-    description: Annotated[str, Field(max_length=2000)] = ""
+    description: Annotated[str, StrictType(), Field(max_length=2000)] = ""
     """What the study is about (free text, kept in the summary's attributes)."""
 
     mode: Literal["grid", "zip"] = "grid"
@@ -294,13 +295,13 @@ class SummarySettings(Strict):
     (over all its columns and storeys) is in the summary regardless."""
 
 
-ModelFile = Annotated[str, Field(min_length=1, max_length=4096, pattern=r"(?i)\.(toml|json)$")]
+ModelFile = Annotated[str, StrictType(), Field(min_length=1, max_length=4096, pattern=r"(?i)\.(toml|json)$")]
 
 
 class SweepFile(Strict):
     """A sweep: a base model, and the settings that vary, as one study or several."""
 
-    title: Annotated[str, Field(max_length=2000)] = ""
+    title: Annotated[str, StrictType(), Field(max_length=2000)] = ""
     """A one-line description of the sweep, kept in the summary."""
 
     base: ModelFile
