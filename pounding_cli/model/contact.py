@@ -152,6 +152,8 @@ class Obstacle(ImpactOverrides):
     elevation: Annotated[
         Annotated[Real, Tag("level")] | Annotated[tuple[Real, Real], Tag("range")],
         Discriminator(lambda v: "range" if isinstance(v, (list, tuple)) else "level"),
+        WithJsonSchema({"anyOf": [{"type": "number"}, {"type": "array", "maxItems": 2, "minItems": 2,
+                                                       "prefixItems": [{"type": "number"}, {"type": "number"}]}]}),
     ]
     """Level of the obstacle above the ground, m: one elevation, or [bottom, top] to meet
     every floor whose elevation lies in that range."""
