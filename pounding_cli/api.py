@@ -31,6 +31,7 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
+from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
@@ -75,7 +76,9 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     # (periods, time step, record) and refused with a message, so numpy need not warn
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         system = assemble(loaded)
+        limits.check_structure(system, loaded.source)
         contact = contact_arrays(loaded, system.buildings)
+        check_resolution(scene_points(loaded.model, system, contact), str(loaded.source))
         ground = ground_motion(loaded)
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
@@ -92,10 +95,13 @@ def scene_grid(
     (contact.omega_step); and, where that step is automatic and contact is possible, the
     function that makes the grid for another contact ω (rad/s), with which execute repeats a
     run that met a stiffer contact (None otherwise)."""
+    rate = system.fastest_rate()[0]
+
     def regrid(omega_step: float) -> TimeGrid:
         return time_grid(
             analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction,
             sampling_scale, yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
+            fastest_rate=rate,
         )  # fmt: skip
 
     automatic = analysis.dt == "auto" and dt_fraction is None and contact.n_pairs > 0
@@ -112,6 +118,9 @@ def resource_run(scene: Scene) -> limits.Run:
     analysis, grid, system = scene.loaded.model.analysis, scene.grid, scene.system
     omegas = [float(b.modes.omega[-1]) for b in system.buildings]
     b = int(np.argmax(omegas))
+    rate, rb, mode, zeta = system.fastest_rate()
+    overdamped = (rb, system.buildings[rb].name, mode, zeta, rate) if rate > 1.000001 * max(omegas) else None
+    field = scene.contact.stiffness_field(scene.contact.cause_step)
     return limits.Run(
         dt=grid.dt, n_steps=grid.n_steps, n_outputs=grid.n_outputs, output_interval=grid.output_interval,
         duration=grid.duration, record_duration=scene.ground.duration,
@@ -120,6 +129,8 @@ def resource_run(scene: Scene) -> limits.Run:
         auto_dt=_auto_step(grid, system),
         structure_limit=grid.stability_limit, contact_limit=grid.contact_limit,
         stiffest=(b, system.buildings[b].name),
+        overdamped=overdamped, contact_field=field,
+        contact_auto=field.startswith("contact.") and getattr(scene.loaded.model.contact, field[8:]) == "auto",
     )  # fmt: skip
 
 
@@ -351,13 +362,15 @@ def execute(
     count every attempt."""
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     t0 = time.perf_counter()
+    ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
+    local_system, local_contact = local_origin(system, scene.contact, ref)
 
     def integrate(grid: TimeGrid) -> Any:
-        return simulate(
-            system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
-            contact=scene.contact if scene.contact.n_pairs else None, substep=grid.substep,
+        return back_to_global(simulate(
+            local_system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
+            contact=local_contact if scene.contact.n_pairs else None, substep=grid.substep,
             yield_substep=grid.yield_substep,
-        )  # fmt: skip
+        ), ref)  # fmt: skip
 
     response = integrate(grid)
     wall_time, compile_time = response.wall_time, response.compile_time

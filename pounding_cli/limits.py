@@ -31,7 +31,15 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from .errors import InputError
+
+MAX_COUNT = 2**62
+"""The largest step or sample count a time grid holds (assembly/timestep.py: whole): a count
+that would be larger, or not finite (a duration of 1e308 s, a step of 5e-324 s), is held at
+MAX_COUNT, which the step limit refuses naming the field that causes it, rather than
+overflowing on its way to an integer."""
 
 GiB = 2**30
 EVENT_BUFFER_BYTES = 200_000 * 11 * 8
@@ -131,6 +139,24 @@ def memory_bytes(size: Size, samples: int) -> int:
     return 2 * history_bytes(size, samples) + (EVENT_BUFFER_BYTES if size.n_pairs else 0)
 
 
+def check_structure(system, source: str | Path) -> None:  # type: ignore[no-untyped-def]
+    """Refuse a building whose natural frequencies or damped decay rates are not finite
+    (numbers at the ends of their ranges overflow in K or M⁻¹K): nothing derived from them
+    could be trusted, and the time step would divide by them."""
+    for b, bld in enumerate(system.buildings):
+        omega = bld.modes.omega
+        rate = bld.fastest_rate()[0]
+        if not (np.all(np.isfinite(omega)) and math.isfinite(rate) and omega[-1] > 0):
+            raise InputError(
+                f"building {bld.name!r} has natural frequencies that are not finite numbers (ω_max = {omega[-1]:.4g} "
+                f"rad/s, fastest decay {rate:.4g} 1/s): its stiffness, masses or damping reach beyond floating-point "
+                "range; check the units of its column sections (m), storey heights (m), elastic_modulus (Pa), "
+                "masses (kg) and rotational_inertia (kg·m²)",
+                file=source,
+                field=f"buildings[{b}]",
+            )
+
+
 def check_storeys(storeys: int, source: str | Path, field: str) -> None:
     """Refuse a building of more storeys than max_storeys()."""
     most = max_storeys()
@@ -161,6 +187,10 @@ class Run:
     structure_limit: float  # s, 2/ω_max of the structure
     contact_limit: float  # s, 2/ω of the stiffest contact estimate (inf without contact)
     stiffest: tuple[int, str]  # (index, name) of the building of the highest natural frequency
+    overdamped: tuple[int, str, int, float, float] | None = None  # (building, name, mode, ζ, ρ 1/s) where an
+    # overdamped mode's decay rate ρ exceeds ω_max and bounds the hybrid's exact step
+    contact_field: str = "contact.k_normal"  # the field that sets the contact the automatic step follows
+    contact_auto: bool = False  # that field is "auto": the materials' elastic_modulus set it
 
 
 def check_run(run: Run, size: Size, source: str | Path) -> None:
@@ -168,8 +198,11 @@ def check_run(run: Run, size: Size, source: str | Path) -> None:
     steps = max_steps()
     if run.n_steps > steps:
         field, why = _step_cause(run, steps)
+        count = f"more than {MAX_COUNT:.3g}" if run.n_steps >= MAX_COUNT else f"{run.n_steps:.3g}"
+        asked = run.given_duration if run.given_duration is not None else run.record_duration
+        dt = run.given_dt if run.given_dt is not None and run.given_dt < run.dt else run.dt
         raise InputError(
-            f"the analysis would take {run.n_steps:.3g} time steps ({run.duration:.4g} s at Δt = {run.dt:.3g} s), "
+            f"the analysis would take {count} time steps ({asked:.4g} s at Δt = {dt:.3g} s), "
             f"more than the limit of {steps:.3g} (POUND_MAX_STEPS); {why}",
             file=source,
             field=field,
@@ -192,22 +225,36 @@ def check_run(run: Run, size: Size, source: str | Path) -> None:
 def _step_cause(run: Run, most: float) -> tuple[str, str]:
     """The field that makes the run take too many steps, and what to do about it."""
     natural = run.given_dt if run.given_dt is not None else run.auto_dt
-    if run.given_output_interval < natural and run.dt <= run.given_output_interval * (1 + 1e-9):
+    forced = run.dt < natural * (1 - 1e-9) and run.output_interval <= max(run.given_output_interval, run.dt) * (1 + 1e-9)
+    if run.given_output_interval < natural and (run.dt <= run.given_output_interval * (1 + 1e-9) or forced):
         return "analysis.output_interval", (
             f"an output interval of {run.given_output_interval:g} s forces the time step down to it (else Δt = "
             f"{natural:.3g} s); check its unit (s) and store less often"
         )
-    if run.given_duration is not None and math.ceil(run.record_duration / run.dt) <= most:
+    if run.given_duration is not None and run.record_duration / run.dt <= most:
         return "analysis.duration", (
             f"a duration of {run.given_duration:g} s is {run.given_duration / run.record_duration:.3g} times the "
             "record's length; check its unit (s)"
         )
     if run.given_dt is not None:
         return "analysis.dt", f'a time step of {run.given_dt:g} s is far below what the model needs; check its unit (s) or use "auto"'
+    if run.overdamped is not None and run.dt < natural * (1 - 1e-9):
+        b, name, mode, zeta, rate = run.overdamped
+        return f"buildings[{b}].damping", (
+            f"its Rayleigh damping gives mode {mode} of building {name!r} a damping ratio of {zeta:.3g}: that "
+            f"overdamped mode decays at {rate:.3g} 1/s, faster than any vibration (ω_max = "
+            f"{2 / run.structure_limit:.3g} rad/s), and the exact steps must resolve it; anchor the damping at "
+            "modes that vibrate (damping.modes) or check the masses and rotational_inertia (kg, kg·m²)"
+        )
     if run.contact_limit < run.structure_limit:
-        return "contact.k_normal", (
-            f'Δt = "auto" follows the stiffest contact (stability limit {run.contact_limit:.3g} s); check the units '
-            "of the impact stiffness k_normal (N/m²) and of the materials' elastic_modulus (Pa)"
+        field = run.contact_field
+        stiffness = field.rsplit(".", 1)[-1]
+        unit = "N/m²" if stiffness == "k_normal" else "N/m"
+        check = ("it is \"auto\": check the units of the materials' elastic_modulus (Pa)" if run.contact_auto
+                 else f"check its unit ({unit})")  # fmt: skip
+        return field, (
+            f'Δt = "auto" follows the stiffest contact (stability limit {run.contact_limit:.3g} s), which '
+            f"{stiffness} sets; {check}"
         )
     b, name = run.stiffest
     return f"buildings[{b}]", (

@@ -102,6 +102,14 @@ class ContactArrays:
     omega_max: float  # rad/s, upper bound of the fastest contact vibration (0 without pairs)
     pair_mobility: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_pairs,) Σ(1/m + r²/J) of the two bodies, 1/kg
     omega_step: float = 0.0  # rad/s, the likely fastest contact vibration: what Δt = "auto" follows
+    pair_fields: list[tuple[str, str]] = field(default_factory=list)  # the model fields that set each pair's (k_N, k_T)
+    cause_max: tuple[int, int] = (-1, 0)  # (pair, 0: k_N·line, 1: k_T) that sets omega_max
+    cause_step: tuple[int, int] = (-1, 0)  # (pair, term) that sets omega_step
+
+    def stiffness_field(self, cause: tuple[int, int]) -> str:
+        """The model field that sets the stiffness term `cause` (a cause_max or cause_step)."""
+        pair, term = cause
+        return self.pair_fields[pair][term] if 0 <= pair < len(self.pair_fields) else "contact.k_normal"
 
     @property
     def n_pairs(self) -> int:
@@ -157,6 +165,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     # each pair's settings: [contact]'s, with an obstacle's (or moat wall's) own in their place
     settings = [obstacles[j - n_floors].applied_to(contact) if j >= n_floors else contact for _, j, _ in candidates]
     k_pairs = [_pair_stiffness(loaded, info, s) for s, (_, _, info) in zip(settings, candidates)]
+    fields = [_stiffness_fields(model, j - n_floors) for _, j, _ in candidates]
     kn = np.array([k[0] for k in k_pairs], dtype=float)
     kt = np.array([k[1] for k in k_pairs], dtype=float)
     m = np.asarray(masses)
@@ -189,10 +198,52 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     diameters = np.array([_diameter(p) for p in polys])
     longest = np.array([min(diameters[i], diameters[j]) for i, j, _ in candidates])
     likely = np.array([likely_contact_line(polys[i], polys[j]) for i, j, _ in candidates])
-    omega_max = _fastest(kn, kt, longest, mobility)
-    omega_step = max(_fastest(kn, kt, np.minimum(likely, longest), mobility), STEP_BOUND * omega_max)
+    omega_max, cause_max = fastest_cause(kn, kt, longest, mobility)
+    omega_likely, cause_step = fastest_cause(kn, kt, np.minimum(likely, longest), mobility)
+    if not omega_likely >= STEP_BOUND * omega_max:  # the likely contacts are far softer (or not finite)
+        omega_likely, cause_step = STEP_BOUND * omega_max, cause_max
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega_max, "pair_mobility": mobility,
-                            "omega_step": omega_step})  # fmt: skip
+                            "omega_step": omega_likely, "pair_fields": fields, "cause_max": cause_max,
+                            "cause_step": cause_step})  # fmt: skip
+
+
+def _stiffness_fields(model, o: int) -> tuple[str, str]:
+    """The fields that set a pair's (k_N, k_T): an obstacle's (or moat wall's) own where it
+    gives them (o ≥ 0: the pair's obstacle in all_obstacles()), else [contact]'s, which for
+    "auto" come from the materials' elastic_modulus."""
+    out = []
+    for name in ("k_normal", "k_tangential"):
+        if o >= 0 and name in model.all_obstacles()[o].overrides():
+            out.append(f"{_obstacle_root(model, o)}.{name}")
+        else:
+            out.append(f"contact.{name}")
+    return out[0], out[1]
+
+
+def _obstacle_root(model, o: int) -> str:
+    """The model table of obstacle o of all_obstacles(): obstacles[i], or a moat's."""
+    if o < len(model.obstacles):
+        return f"obstacles[{o}]"
+    o -= len(model.obstacles)
+    for b, building in enumerate(model.buildings):
+        iso = building.isolation
+        if iso is not None and iso.moat is not None:
+            if o < len(iso.slab):
+                return f"buildings[{b}].isolation.moat"
+            o -= len(iso.slab)
+    return "obstacles"
+
+
+def fastest_cause(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np.ndarray) -> tuple[float, tuple[int, int]]:
+    """(ω, (pair, term)): _fastest and the pair and term (0: k_N·line, 1: k_T) that give it;
+    (0, (−1, 0)) without pairs. A term that overflows counts as infinite."""
+    if kn.size == 0:
+        return 0.0, (-1, 0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        terms = np.stack([kn * line, kt]) * mobility
+    terms = np.where(np.isnan(terms), np.inf, terms)
+    term, pair = np.unravel_index(int(np.argmax(terms)), terms.shape)
+    return float(np.sqrt(terms[term, pair])), (int(pair), int(term))
 
 
 def _obstacle_field(model, o: int) -> str:
