@@ -13,7 +13,7 @@ import hashlib
 import json
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -72,6 +72,8 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     loaded = _loaded(model)
     for b, building in enumerate(loaded.model.buildings):
         limits.check_storeys(sum(f.repeat for f in building.floors), loaded.source, f"buildings[{b}].floors")
+    setup = setup_counts(loaded)
+    limits.check_setup(setup, loaded.source)  # from the counts, before anything is assembled
     # extreme inputs (a length of 1e300 m) overflow on the way; what comes out is checked
     # (periods, time step, record) and refused with a message, so numpy need not warn
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -82,8 +84,38 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
         ground = ground_motion(loaded)
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
-    limits.check_run(resource_run(scene), resource_size(scene), loaded.source)
+    setup = replace(setup, pairs=contact.n_pairs, exact=grid.substep > 0)
+    limits.check_run(resource_run(scene), resource_size(scene), loaded.source, setup,
+                     grid.free_steps(ground.dt) if grid.substep else 0)  # fmt: skip
     return scene
+
+
+def setup_counts(loaded: LoadedModel) -> limits.Setup:
+    """The model's size from its counts alone (nothing generated or assembled): storeys and
+    column instances per building, contact candidates, whether the exact integrator may run."""
+    from .assembly.contact import LEVEL_TOLERANCE
+
+    model = loaded.model
+    storeys, columns, levels, owners = [], [], [], []
+    for b, building in enumerate(model.buildings):
+        heights = [f.height for f in building.floors for _ in range(f.repeat)]
+        if building.isolation is not None:
+            heights.insert(0, building.isolation.height)
+        storeys.append(len(heights))
+        columns.append(sum(f.repeat * f.column_count() for f in building.floors))
+        levels.append(np.cumsum(heights))
+        owners.append(np.full(len(heights), b))
+    pairs = 0
+    if model.contact.enabled and levels:
+        z, owner = np.concatenate(levels), np.concatenate(owners)
+        order = np.argsort(z, kind="stable")
+        lo = np.searchsorted(z[order], z - LEVEL_TOLERANCE, side="left")
+        hi = np.searchsorted(z[order], z + LEVEL_TOLERANCE, side="right")
+        pairs = int(sum(np.count_nonzero(owner[order[a:c]] > owner[i]) for i, (a, c) in enumerate(zip(lo, hi))))
+        for obstacle in model.all_obstacles():
+            pairs += int(np.count_nonzero([obstacle.spans(float(h), LEVEL_TOLERANCE) for h in z]))
+    exact = model.analysis.integrator != "cdm"
+    return limits.Setup(tuple(storeys), tuple(columns), exact, pairs)
 
 
 def scene_grid(

@@ -150,11 +150,10 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     candidates: list[tuple[int, int, PairInfo]] = []
     if contact.enabled:
         flat = [(b, f, bld) for b, bld in enumerate(buildings) for f in range(bld.n_floors)]
-        for ia, (ba, fa, bld_a) in enumerate(flat):
-            for ib, (bb, fb, bld_b) in enumerate(flat):
-                if bb > ba and abs(bld_a.elevation[fa] - bld_b.elevation[fb]) < LEVEL_TOLERANCE:
-                    info = PairInfo(bld_a.name, fa + 1, bld_b.name, fb + 1, float(bld_a.elevation[fa]))
-                    candidates.append((ia, ib, info))
+        for ia, ib in _level_pairs(flat):
+            (_, fa, bld_a), (_, fb, bld_b) = flat[ia], flat[ib]
+            info = PairInfo(bld_a.name, fa + 1, bld_b.name, fb + 1, float(bld_a.elevation[fa]))
+            candidates.append((ia, ib, info))
         for o, obstacle in enumerate(obstacles):
             for ia, (ba, fa, bld_a) in enumerate(flat):
                 if obstacle.spans(float(bld_a.elevation[fa]), LEVEL_TOLERANCE):
@@ -164,7 +163,8 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
 
     # each pair's settings: [contact]'s, with an obstacle's (or moat wall's) own in their place
     settings = [obstacles[j - n_floors].applied_to(contact) if j >= n_floors else contact for _, j, _ in candidates]
-    k_pairs = [_pair_stiffness(loaded, info, s) for s, (_, _, info) in zip(settings, candidates)]
+    materials_of: dict[str, Material] = {}  # per body, found once (a building's walks every column)
+    k_pairs = [_pair_stiffness(loaded, info, s, materials_of) for s, (_, _, info) in zip(settings, candidates)]
     fields = [_stiffness_fields(model, j - n_floors) for _, j, _ in candidates]
     kn = np.array([k[0] for k in k_pairs], dtype=float)
     kt = np.array([k[1] for k in k_pairs], dtype=float)
@@ -246,6 +246,25 @@ def fastest_cause(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np
     return float(np.sqrt(terms[term, pair])), (int(pair), int(term))
 
 
+def _level_pairs(flat: list) -> list[tuple[int, int]]:  # type: ignore[type-arg]
+    """(ia, ib) of every two floors of different buildings at one level, ib of a later
+    building, in the order of a loop over ia then ib: found among the floors within reach of
+    each one's elevation (sorted), not by comparing every floor with every other, which for
+    40 buildings of 1000 storeys made 1.6e9 comparisons."""
+    z = np.array([bld.elevation[f] for _, f, bld in flat], dtype=float)
+    owner = np.array([b for b, _, _ in flat], dtype=np.int64)
+    order = np.argsort(z, kind="stable")
+    ordered = z[order]
+    out = []
+    for ia in range(z.size):
+        lo = np.searchsorted(ordered, z[ia] - 2 * LEVEL_TOLERANCE, side="left")
+        hi = np.searchsorted(ordered, z[ia] + 2 * LEVEL_TOLERANCE, side="right")
+        near = np.sort(order[lo:hi])
+        near = near[(owner[near] > owner[ia]) & (np.abs(z[ia] - z[near]) < LEVEL_TOLERANCE)]
+        out.extend((ia, int(ib)) for ib in near)
+    return out
+
+
 def _obstacle_field(model, o: int) -> str:
     """The model field of obstacle o of all_obstacles(): given, or a moat wall segment."""
     if o < len(model.obstacles):
@@ -274,32 +293,39 @@ def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: 
         )
 
 
-def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact) -> tuple[float, float]:
+def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact,
+                    materials_of: dict[str, Material] | None = None) -> tuple[float, float]:  # fmt: skip
     """(k_N, k_T) of a pair: as its contact settings give them, or "auto" from the bodies'
-    materials."""
-    model = loaded.model
+    materials (`materials_of` caches each body's material by name: finding a building's
+    walks all its columns)."""
     kn, kt = settings.k_normal, settings.k_tangential
     if kn != "auto" and kt != "auto":
         return float(kn), float(kt)
-    materials = []
+    cache = {} if materials_of is None else materials_of
     for name in (info.body_a, info.body_b):
-        building = next((b for b in model.buildings if b.name == name), None)
-        if building is None:
-            obstacle = next(o for o in model.all_obstacles() if o.name == name)
-            materials.append(model.materials[obstacle.material])
-            continue
-        slab = building.slab_material_name()
-        if slab is None:
-            index = model.buildings.index(building)
-            raise InputError(
-                "its columns use several materials, so the slab material for the \"auto\" impact "
-                "stiffness is ambiguous; name it with slab_material",
-                file=loaded.source,
-                field=f"buildings[{index}].slab_material",
-            )
-        materials.append(model.materials[slab])
-    auto_n, auto_t = impact_stiffness(*materials)
+        if name not in cache:
+            cache[name] = _body_material(loaded, name)
+    auto_n, auto_t = impact_stiffness(cache[info.body_a], cache[info.body_b])
     return (auto_n if kn == "auto" else float(kn)), (auto_t if kt == "auto" else float(kt))
+
+
+def _body_material(loaded: LoadedModel, name: str) -> Material:
+    """The material of a body for "auto" impact stiffness: a building's slab material, an
+    obstacle's (or moat wall's) own."""
+    model = loaded.model
+    building = next((b for b in model.buildings if b.name == name), None)
+    if building is None:
+        obstacle = next(o for o in model.all_obstacles() if o.name == name)
+        return model.materials[obstacle.material]
+    slab = building.slab_material_name()
+    if slab is None:
+        raise InputError(
+            "its columns use several materials, so the slab material for the \"auto\" impact "
+            "stiffness is ambiguous; name it with slab_material",
+            file=loaded.source,
+            field=f"buildings[{model.buildings.index(building)}].slab_material",
+        )
+    return model.materials[slab]
 
 
 LIKELY_DEPTH = 1e-3

@@ -120,10 +120,8 @@ class TimeGrid:
         total = self.n_steps // self.substep
         if max(2.0 / self.stability_limit, self.fastest_rate) * 2.0 * self.dt * self.substep > CREST_SPAN:
             return total
-        per_record = max(1, round(record_dt / (self.dt * self.substep)))
-        marks = np.union1d(np.arange(0, total + 1, self.stride // self.substep), np.arange(0, total + 1, per_record))
-        marks = np.union1d(marks, [total])
-        return int(np.sum((np.diff(marks) + 1) // 2))
+        per_record = nearest(record_dt / (self.dt * self.substep))
+        return paired_steps(total, self.stride // self.substep, per_record)
 
     @property
     def output_interval(self) -> float:
@@ -156,6 +154,23 @@ def nearest(x: float) -> int:
 def _ratio(a: float, b: float) -> float:
     """a/b for positive a, b; inf where b underflows to 0 or the quotient overflows."""
     return a / b if b > 0 else math.inf
+
+
+def paired_steps(total: int, a: int, b: int) -> int:
+    """Steps over `total` substeps taken two at once except across a mark: every a-th and
+    every b-th substep, and the last (Σ ⌈gap/2⌉ over the gaps between marks). The marks repeat
+    every lcm(a, b) substeps, so one period is counted and multiplied: no array as long as the
+    run (2·10⁸ substeps would have taken 3 GB)."""
+    period = math.lcm(a, b)
+    if period // a + period // b > 10**6:  # marks too sparse to list: each gap counted as two steps at once
+        return (total + 1) // 2 + total // a + total // b
+
+    def count(end: int) -> int:
+        marks = np.union1d(np.union1d(np.arange(0, end + 1, a), np.arange(0, end + 1, b)), [end])
+        return int(np.sum((np.diff(marks) + 1) // 2))
+
+    full, rest = divmod(total, period)
+    return full * count(period) + (count(rest) if rest else 0)
 
 
 def stability_limit(omega_max: float) -> float:
