@@ -10,7 +10,7 @@ from typing import Annotated
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from ..limits import MAX_COLUMNS, MAX_REPEAT, check_columns, check_repeat
+from ..limits import MAX_COLUMNS, MAX_REPEAT, check_columns, check_repeat, max_storeys
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
 from .slab import SlabPolygon
@@ -271,6 +271,16 @@ class Building(Strict):
 
     floors: Annotated[list[Floor], Field(min_length=1)]
     """Floors from the lowest up; each carries the storey of columns beneath it."""
+
+    @field_validator("floors", mode="before")
+    @classmethod
+    def _entries_within_limit(cls, value: object) -> object:
+        """More floor entries than the storey limit are refused before each is checked (each
+        takes about a millisecond: a 50 MB file of them would take minutes)."""
+        if isinstance(value, list) and len(value) > max_storeys():
+            raise ValueError(f"{len(value)} floor entries: more than the limit of {max_storeys():.0f} storeys "
+                             "(POUND_MAX_STOREYS)")  # fmt: skip
+        return value
 
     damping: RayleighDamping = RayleighDamping()
     """Rayleigh damping of this building (of a base-isolated building: of its superstructure,
