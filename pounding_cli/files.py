@@ -129,11 +129,11 @@ def _open(path: Path) -> int:
 
 
 def resolve_in(folder: Path, relative: str | Path) -> Path:
-    """The path `relative` names from `folder` (absolute), its folders resolved and its last
-    name kept: messages name the file as the user does (a link to /dev/zero stays quake.txt),
-    and a loop of links is left for the reader to report rather than raised here."""
+    """The path `relative` names from `folder`, resolved (links followed: a record
+    definition's own paths are relative to the file a link points to); a loop of links is
+    left unresolved for the reader to report, rather than raised here (RuntimeError)."""
     path = Path(folder) / relative
     try:
-        return path.parent.resolve() / path.name
-    except (OSError, RuntimeError):  # a loop of links among the folders
+        return path.resolve()
+    except (OSError, RuntimeError):  # a loop of links
         return path
