@@ -35,7 +35,8 @@ from .assembly.origin import back_to_global, check_resolution, local_origin, ref
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
-from .interrupts import terminate_as_interrupt
+from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
+from .outputs import claim, output_file, refuse_inputs
 from .model import Analysis, LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
@@ -185,6 +186,26 @@ def check_output_path(path: Path, force: bool = False) -> None:
         raise InputError(f"cannot create the folder {str(path.parent)!r} ({exc.strerror})", file=path) from None
     if not os.access(path.parent, os.W_OK):
         raise InputError(f"the folder {str(path.parent)!r} is not writable", file=path)
+
+
+def run_inputs(scene: Scene) -> list[tuple[Path, str]]:
+    """Every file a run reads, with what it is: the model, its record definition file, the
+    record files of its components (an output must be none of them)."""
+    from .assembly.ground import resolve_record
+
+    out = [(Path(scene.loaded.source), "the model of this run")]
+    record, origin, record_file = resolve_record(scene.loaded)
+    if record_file is not None:
+        out.append((Path(record_file), "the record definition of this run"))
+    out += [(origin.resolve(c.file), f"the record file of component {name} of this run")
+            for name, c in record.components().items()]  # fmt: skip
+    return out
+
+
+def default_output(model: str | Path | LoadedModel) -> Path:
+    """The model's name with .h5, in the current folder."""
+    source = model.source if isinstance(model, LoadedModel) else Path(model)
+    return Path(Path(source).name).with_suffix(".h5")
 
 
 def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
@@ -366,12 +387,25 @@ def run_model(
     force: bool = False,
 ) -> RunResult:
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
-    marked by its status). Check `result.complete`."""
-    scene = prepare(model)
-    if output is not None:
-        check_output_path(Path(output), force)
+    marked by its status). Check `result.complete`.
+
+    `output` ending in "/" (or naming a folder) is a folder: the file is the model's name
+    with .h5 inside it. An output that is one of the run's inputs is refused, with --force
+    too; the output name is claimed for the whole run, so that a second run writing it
+    meanwhile is refused naming this one (outputs.claim). SIGTERM, like Ctrl-C, stops the
+    run from the start: before the time loop nothing is written, during it the partial
+    results are, marked; once the result file has its final name, SIGTERM ends the process
+    by the signal (interrupts)."""
     with terminate_as_interrupt():
-        return execute(scene, output, progress)
+        scene = prepare(model)
+        if output is None:
+            return execute(scene, None, progress)
+        path, _ = output_file(output, default_output(scene.loaded).name)
+        refuse_inputs(path, run_inputs(scene))
+        check_output_path(path, force=True)  # the folder made and writable; the name is checked once claimed
+        with claim(path):
+            check_output_path(path, force)
+            return execute(scene, path, progress)
 
 
 def where_it_failed(system: System, dof: int) -> str:
@@ -442,6 +476,7 @@ def execute(
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }
+    settle(response.status)  # a stop request the time loop did not see stops the run here
     if response.failure_dof >= 0:
         response.status += "; " + where_it_failed(system, response.failure_dof)
     result = collect(
@@ -465,5 +500,7 @@ def write_results(result: RunResult, output: Path) -> None:
             "give another output file, and run again",
             file=exc.file,
         ) from None
+    except InterruptedAfterWriting:
+        raise  # the file has its final name: not "nothing was written"
     except KeyboardInterrupt:
         raise AnalysisFailed(f"{output}: interrupted while writing the results; nothing was written") from None
