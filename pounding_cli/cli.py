@@ -170,12 +170,12 @@ def run(
         from .outputs import output_file
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
-        if note:
-            err.print(note, markup=False)
         with _progress_bar(show) as bar:
             result = run_model(model, output=target, progress=bar, force=force)
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
         signal.signal(sig, signal.SIG_DFL)
+    if note:
+        err.print(note, markup=False)
     summary = run_summary(result)
     if json_:
         print(json.dumps(summary, indent=2))

@@ -392,7 +392,10 @@ def _step_cause(run: Run, most: float) -> tuple[str, str]:
             f"an output interval of {run.given_output_interval:g} s forces the time step down to it (else Δt = "
             f"{natural:.3g} s); check its unit (s) and store less often"
         )
-    if run.given_duration is not None and run.record_duration / run.dt <= most:
+    record_steps = run.record_duration / run.dt  # the steps of the record's own length
+    if run.given_duration is not None and run.given_duration > run.record_duration and (
+        record_steps <= most or run.given_duration / run.record_duration > record_steps / most
+    ):  # the duration is what exceeds the limit, or exceeds the record by more than the record exceeds it
         return "analysis.duration", (
             f"a duration of {run.given_duration:g} s is {run.given_duration / run.record_duration:.3g} times the "
             "record's length; check its unit (s)"

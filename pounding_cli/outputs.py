@@ -35,7 +35,7 @@ def output_file(output: str | Path, default_name: str) -> tuple[Path, str | None
     seps = (os.sep, os.altsep) if os.altsep else (os.sep,)
     if text.endswith(seps) or Path(text).is_dir():
         path = Path(text) / default_name
-        return path, f"{text} names a folder: writing {path}"
+        return path, f"{text} names a folder: the results are in {path}"
     return Path(text), None
 
 

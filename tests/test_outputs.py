@@ -87,7 +87,7 @@ def test_an_output_naming_a_folder_is_written_into(tmp_path: Path, given: str, m
     assert result.exit_code == 0, result.stderr
     folder = tmp_path / given.rstrip("/")
     assert folder.is_dir() and h5py.is_hdf5(folder / "m.h5")
-    assert f"{given} names a folder: writing {Path(given) / 'm.h5'}" in result.stderr
+    assert f"{given} names a folder: the results are in {Path(given) / 'm.h5'}" in result.stderr
 
 
 def test_a_claimed_output_is_refused_naming_the_holder(tmp_path: Path) -> None:

@@ -153,7 +153,13 @@ def _number(value: Any) -> int | float:
         raise ValueError(f"expected a number; got {value!r:.80}")
     if isinstance(value, float) and not math.isfinite(value):
         raise ValueError(f"expected a finite number; got {value}")
+    if isinstance(value, int) and abs(value) > MAX_FLOAT:  # it could not become a model's number
+        raise ValueError(f"expected a number below 1.8e308 in magnitude; got a whole number of {len(str(abs(value)))} digits")
     return value
+
+
+MAX_FLOAT = 1.7976931348623157e308
+"""The largest float: a sweep's numbers become the model's, which are floats."""
 
 
 Number = Annotated[int | float, PlainValidator(_number), WithJsonSchema({"type": "number"})]
@@ -181,11 +187,12 @@ class Range(Strict):
     def _finite_count(self) -> "Range":
         if self.step == 0:
             raise ValueError("step is 0: give a step towards stop")
-        span = (self.stop - self.start) / self.step
+        span = (float(self.stop) - float(self.start)) / float(self.step)  # inf for 1e308 - (-1e308)
         if span < -1e-9:
             raise ValueError(f"step {self.step:g} goes away from stop {self.stop:g} (start {self.start:g})")
-        if span > MAX_CASES:
-            raise ValueError(f"{math.floor(span) + 1} values; a parameter takes at most {MAX_CASES}")
+        if not span <= MAX_CASES:
+            count = f"{math.floor(span) + 1}" if math.isfinite(span) else "more than 1e308"
+            raise ValueError(f"{count} values; a parameter takes at most {MAX_CASES}")
         return self
 
     def values(self) -> list[float | int]:
