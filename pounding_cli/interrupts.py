@@ -108,9 +108,30 @@ def after_writing(signum: int) -> None:
     die_by(signum)
 
 
+_at_death: list = []
+"""Cleanups die_by runs before the process ends by a signal (outputs.claim removes its claim
+file): the files a process holds only while it runs."""
+
+
+def at_death(cleanup) -> None:  # type: ignore[no-untyped-def]
+    """Run `cleanup()` if the process ends by die_by (until forget_at_death(cleanup))."""
+    _at_death.append(cleanup)
+
+
+def forget_at_death(cleanup) -> None:  # type: ignore[no-untyped-def]
+    if cleanup in _at_death:
+        _at_death.remove(cleanup)
+
+
 def die_by(signum: int) -> None:
     """End the process by the signal `signum` (its default action), as a shell expects of a
-    process it signalled: exit status 128 + signum, no cleanup to mistake for success."""
+    process it signalled: exit status 128 + signum, no cleanup to mistake for success (only
+    the at_death ones: files held only while the process runs)."""
+    for cleanup in reversed(_at_death):
+        try:
+            cleanup()
+        except Exception:  # noqa: BLE001 - dying regardless
+            pass
     sys.stdout.flush()
     sys.stderr.flush()
     signal.signal(signum, signal.SIG_DFL)

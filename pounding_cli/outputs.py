@@ -11,7 +11,9 @@
 
 A claim is an exclusive lock (flock) on a small file beside the output,
 ``.<name>.claim``, holding who claimed it. The lock goes with its process however that ends
-(kill -9 included), so a claim is never stale; the file is removed when the claim ends.
+(kill -9 included), so a claim is never stale; the file is removed when the claim ends, or
+when the process ends by a signal after its results were written (interrupts.die_by); only
+kill -9 leaves it, and the next claimant takes it over.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from pathlib import Path
 from typing import Iterator
 
 from .errors import InputError
+from .interrupts import at_death, forget_at_death
 
 
 def output_file(output: str | Path, default_name: str) -> tuple[Path, str | None]:
@@ -93,6 +96,11 @@ def claim(path: Path, what: str = "pound run") -> Iterator[None]:
         os.close(fd)  # the holder removed the file as we opened it: claim the new one
     else:  # pragma: no cover - a hundred races in a row
         raise InputError("cannot claim the output name: its claim file keeps changing", file=path)
+    def release() -> None:
+        if _still_there(fd, lock):
+            lock.unlink()
+
+    at_death(release)  # a death by the signal after the rename (interrupts.die_by) removes it too
     try:
         command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else "python"
         try:  # who holds it, for the message of the next claimant (a full disk may refuse it)
@@ -103,9 +111,9 @@ def claim(path: Path, what: str = "pound run") -> Iterator[None]:
             pass
         yield
     finally:
+        forget_at_death(release)
         try:
-            if _still_there(fd, lock):
-                lock.unlink()
+            release()
         except OSError:
             pass
         os.close(fd)
