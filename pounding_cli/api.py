@@ -13,7 +13,7 @@ import hashlib
 import json
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -31,10 +31,12 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
+from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
-from .interrupts import terminate_as_interrupt
+from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
+from .outputs import claim, output_file, refuse_inputs
 from .model import Analysis, LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
@@ -64,16 +66,50 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     loaded = _loaded(model)
     for b, building in enumerate(loaded.model.buildings):
         limits.check_storeys(sum(f.repeat for f in building.floors), loaded.source, f"buildings[{b}].floors")
+    setup = setup_counts(loaded)
+    limits.check_setup(setup, loaded.source)  # from the counts, before anything is assembled
     # extreme inputs (a length of 1e300 m) overflow on the way; what comes out is checked
     # (periods, time step, record) and refused with a message, so numpy need not warn
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         system = assemble(loaded)
+        limits.check_structure(system, loaded.source)
         contact = contact_arrays(loaded, system.buildings)
+        check_resolution(scene_points(loaded.model, system, contact), str(loaded.source))
         ground = ground_motion(loaded)
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
-    limits.check_run(resource_run(scene), resource_size(scene), loaded.source)
+    setup = replace(setup, pairs=contact.n_pairs, exact=grid.substep > 0)
+    limits.check_run(resource_run(scene), resource_size(scene), loaded.source, setup,
+                     grid.free_steps(ground.dt) if grid.substep else 0)  # fmt: skip
     return scene
+
+
+def setup_counts(loaded: LoadedModel) -> limits.Setup:
+    """The model's size from its counts alone (nothing generated or assembled): storeys and
+    column instances per building, contact candidates, whether the exact integrator may run."""
+    from .assembly.contact import LEVEL_TOLERANCE
+
+    model = loaded.model
+    storeys, columns, levels, owners = [], [], [], []
+    for b, building in enumerate(model.buildings):
+        heights = [f.height for f in building.floors for _ in range(f.repeat)]
+        if building.isolation is not None:
+            heights.insert(0, building.isolation.height)
+        storeys.append(len(heights))
+        columns.append(sum(f.repeat * f.column_count() for f in building.floors))
+        levels.append(np.cumsum(heights))
+        owners.append(np.full(len(heights), b))
+    pairs = 0
+    if model.contact.enabled and levels:
+        z, owner = np.concatenate(levels), np.concatenate(owners)
+        order = np.argsort(z, kind="stable")
+        lo = np.searchsorted(z[order], z - LEVEL_TOLERANCE, side="left")
+        hi = np.searchsorted(z[order], z + LEVEL_TOLERANCE, side="right")
+        pairs = int(sum(np.count_nonzero(owner[order[a:c]] > owner[i]) for i, (a, c) in enumerate(zip(lo, hi))))
+        for obstacle in model.all_obstacles():
+            pairs += int(np.count_nonzero([obstacle.spans(float(h), LEVEL_TOLERANCE) for h in z]))
+    exact = model.analysis.integrator != "cdm"
+    return limits.Setup(tuple(storeys), tuple(columns), exact, pairs)
 
 
 def scene_grid(
@@ -85,10 +121,13 @@ def scene_grid(
     (contact.omega_step); and, where that step is automatic and contact is possible, the
     function that makes the grid for another contact ω (rad/s), with which execute repeats a
     run that met a stiffer contact (None otherwise)."""
+    rate = system.fastest_rate()[0]
+
     def regrid(omega_step: float) -> TimeGrid:
         return time_grid(
             analysis, system.omega_max, ground.duration, source, contact.omega_max, ground.dt, dt_fraction,
             sampling_scale, yielding=system.members.top.size > 0, dt_scale=dt_scale, omega_contact_step=omega_step,
+            fastest_rate=rate,
         )  # fmt: skip
 
     automatic = analysis.dt == "auto" and dt_fraction is None and contact.n_pairs > 0
@@ -105,6 +144,9 @@ def resource_run(scene: Scene) -> limits.Run:
     analysis, grid, system = scene.loaded.model.analysis, scene.grid, scene.system
     omegas = [float(b.modes.omega[-1]) for b in system.buildings]
     b = int(np.argmax(omegas))
+    rate, rb, mode, zeta = system.fastest_rate()
+    overdamped = (rb, system.buildings[rb].name, mode, zeta, rate) if rate > 1.000001 * max(omegas) else None
+    field = scene.contact.stiffness_field(scene.contact.cause_step)
     return limits.Run(
         dt=grid.dt, n_steps=grid.n_steps, n_outputs=grid.n_outputs, output_interval=grid.output_interval,
         duration=grid.duration, record_duration=scene.ground.duration,
@@ -113,6 +155,8 @@ def resource_run(scene: Scene) -> limits.Run:
         auto_dt=_auto_step(grid, system),
         structure_limit=grid.stability_limit, contact_limit=grid.contact_limit,
         stiffest=(b, system.buildings[b].name),
+        overdamped=overdamped, contact_field=field,
+        contact_auto=field.startswith("contact.") and getattr(scene.loaded.model.contact, field[8:]) == "auto",
     )  # fmt: skip
 
 
@@ -135,6 +179,26 @@ def check_output_path(path: Path, force: bool = False) -> None:
         raise InputError(f"cannot create the folder {str(path.parent)!r} ({exc.strerror})", file=path) from None
     if not os.access(path.parent, os.W_OK):
         raise InputError(f"the folder {str(path.parent)!r} is not writable", file=path)
+
+
+def run_inputs(scene: Scene) -> list[tuple[Path, str]]:
+    """Every file a run reads, with what it is: the model, its record definition file, the
+    record files of its components (an output must be none of them)."""
+    from .assembly.ground import resolve_record
+
+    out = [(Path(scene.loaded.source), "the model of this run")]
+    record, origin, record_file = resolve_record(scene.loaded)
+    if record_file is not None:
+        out.append((Path(record_file), "the record definition of this run"))
+    out += [(origin.resolve(c.file), f"the record file of component {name} of this run")
+            for name, c in record.components().items()]  # fmt: skip
+    return out
+
+
+def default_output(model: str | Path | LoadedModel) -> Path:
+    """The model's name with .h5, in the current folder."""
+    source = model.source if isinstance(model, LoadedModel) else Path(model)
+    return Path(Path(source).name).with_suffix(".h5")
 
 
 def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
@@ -316,12 +380,25 @@ def run_model(
     force: bool = False,
 ) -> RunResult:
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
-    marked by its status). Check `result.complete`."""
-    scene = prepare(model)
-    if output is not None:
-        check_output_path(Path(output), force)
+    marked by its status). Check `result.complete`.
+
+    `output` ending in "/" (or naming a folder) is a folder: the file is the model's name
+    with .h5 inside it. An output that is one of the run's inputs is refused, with --force
+    too; the output name is claimed for the whole run, so that a second run writing it
+    meanwhile is refused naming this one (outputs.claim). SIGTERM, like Ctrl-C, stops the
+    run from the start: before the time loop nothing is written, during it the partial
+    results are, marked; once the result file has its final name, SIGTERM ends the process
+    by the signal (interrupts)."""
     with terminate_as_interrupt():
-        return execute(scene, output, progress)
+        scene = prepare(model)
+        if output is None:
+            return execute(scene, None, progress)
+        path, _ = output_file(output, default_output(scene.loaded).name)
+        refuse_inputs(path, run_inputs(scene))
+        check_output_path(path, force=True)  # the folder made and writable; the name is checked once claimed
+        with claim(path):
+            check_output_path(path, force)
+            return execute(scene, path, progress)
 
 
 def where_it_failed(system: System, dof: int) -> str:
@@ -344,13 +421,15 @@ def execute(
     count every attempt."""
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     t0 = time.perf_counter()
+    ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
+    local_system, local_contact = local_origin(system, scene.contact, ref)
 
     def integrate(grid: TimeGrid) -> Any:
-        return simulate(
-            system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
-            contact=scene.contact if scene.contact.n_pairs else None, substep=grid.substep,
+        return back_to_global(simulate(
+            local_system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
+            contact=local_contact if scene.contact.n_pairs else None, substep=grid.substep,
             yield_substep=grid.yield_substep,
-        )  # fmt: skip
+        ), ref)  # fmt: skip
 
     response = integrate(grid)
     wall_time, compile_time = response.wall_time, response.compile_time
@@ -390,6 +469,7 @@ def execute(
         "run_time_s": time.perf_counter() - t0,
         "record_notes": "; ".join(ground.notes),
     }
+    settle(response.status)  # a stop request the time loop did not see stops the run here
     if response.failure_dof >= 0:
         response.status += "; " + where_it_failed(system, response.failure_dof)
     result = collect(
@@ -413,5 +493,7 @@ def write_results(result: RunResult, output: Path) -> None:
             "give another output file, and run again",
             file=exc.file,
         ) from None
+    except InterruptedAfterWriting:
+        raise  # the file has its final name: not "nothing was written"
     except KeyboardInterrupt:
         raise AnalysisFailed(f"{output}: interrupted while writing the results; nothing was written") from None

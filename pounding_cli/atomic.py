@@ -12,20 +12,30 @@ name is left as it was. A process killed outright (SIGKILL, a power cut) can lea
 temporary file, never a half-written final one; :func:`stale_temporaries` finds those of
 processes that no longer run.
 
-An OSError while writing (disk full, no permission, a folder that vanished) becomes an
+Signals are deferred while the block runs (interrupts.deferred): SIGTERM or Ctrl-C is acted
+on at the writer's checkpoints and once more just before the rename (the write is abandoned,
+nothing written), or, arriving after that, once the file has its final name.
+
+An error while writing — an OSError (disk full, no permission, a folder that vanished), or
+any error of the library writing the file, which may wrap ENOSPC in its own exception or
+fail on the next call after a failed write — becomes an
 :class:`~pounding_cli.errors.InputError` naming the final path and the operating system's
-reason, so the command line reports it in one line and exits 2.
+reason, so the command line reports it in one line and exits 2; the temporary file is
+removed either way.
 """
 
 from __future__ import annotations
 
+import io
 import os
 import re
+import time
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Callable, Iterator
 
-from .errors import InputError
+from .errors import InputError, WriteError
+from .interrupts import checkpoint, deferred
 
 TEMPORARY = re.compile(r"^\.(?P<name>.+)\.(?P<pid>[0-9]+)\.tmp$")
 """The name of a temporary file: ``.<final name>.<pid of the writing process>.tmp``."""
@@ -37,20 +47,143 @@ def temporary_name(path: Path) -> Path:
 
 
 @contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
+def atomic_path(path: str | Path, committed: Callable[[], None] | None = None) -> Iterator[Path]:
     """Yield a temporary path beside `path` to write to; rename it to `path` when the block
-    ends normally, remove it when the block raises (module docstring)."""
+    ends normally, remove it when the block raises (module docstring). `committed` is
+    called right after the rename (a run marks its results written)."""
     path = Path(path)
     tmp = temporary_name(path)
+    with deferred():
+        try:
+            yield tmp
+            _fsync(tmp)
+            checkpoint()  # the last moment a signal abandons the write
+            os.replace(tmp, path)
+            if committed is not None:
+                committed()
+            _fsync(path.parent)
+        except OSError as exc:
+            raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
+        except (InputError, KeyboardInterrupt):
+            raise
+        except Exception as exc:  # the writing library's own error (wrapping ENOSPC in its own)
+            if not _failed_writing(exc, tmp):
+                raise
+            raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
+        finally:
+            _remove(tmp)
+
+
+def _failed_writing(exc: Exception, tmp: Path) -> bool:
+    """Whether an exception raised while writing `tmp` is the file system's doing: the disk
+    full (or short) now, whatever the library made of it."""
+    if isinstance(exc.__cause__ or exc.__context__, OSError):
+        return True
     try:
-        yield tmp
-        _fsync(tmp)
-        os.replace(tmp, path)
-        _fsync(path.parent)
-    except OSError as exc:
-        raise InputError(f"cannot write the file ({reason(exc)})", file=path) from None
+        usage = os.statvfs(tmp.parent)
+    except OSError:
+        return False
+    return usage.f_bavail * usage.f_frsize < 1 << 20 or "errno = 28" in str(exc) or "No space" in str(exc)
+
+
+@contextmanager
+def hdf5_writer(tmp: Path, **options: Any) -> Iterator[Any]:
+    """An h5py.File, mode "w", writing `tmp` through a DiskSink: HDF5 never meets a failed
+    write (after one, as when the disk fills up, the C library segfaults on closing the file
+    and prints a traceback per object it frees), and the OSError the sink met is raised once
+    the file is closed, for atomic_path to report and clean up."""
+    import h5py
+
+    fd = os.open(tmp, os.O_RDWR | os.O_CREAT | os.O_TRUNC | getattr(os, "O_CLOEXEC", 0), 0o644)
+    sink = DiskSink(fd)
+    try:
+        with h5py.File(sink, "w", **options) as f:
+            yield f
     finally:
-        _remove(tmp)
+        os.close(fd)
+    sink.check()
+
+
+_SLOW_WRITES = float(os.environ.get("POUND_TEST_SLOW_WRITES", "0") or 0)
+"""For tests/test_write_faults.py only: seconds each write waits, so that the writing of a
+result file spans long enough to be signalled throughout. Unset: 0."""
+
+
+class DiskSink(io.RawIOBase):
+    """A file object over a descriptor that never fails a write: the first OSError (ENOSPC,
+    EDQUOT, EIO) is kept, and what could not be written is held in memory so that reads stay
+    consistent, until :meth:`check` raises the error (module docstring of hdf5_writer)."""
+
+    def __init__(self, fd: int):
+        super().__init__()
+        self.fd, self.pos, self.end = fd, 0, 0
+        self.error: OSError | None = None
+        self.held: dict[int, bytes] = {}  # offset -> bytes not written (after self.error)
+
+    def readable(self) -> bool:
+        return True
+
+    def writable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def tell(self) -> int:
+        return self.pos
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        base = {0: 0, 1: self.pos, 2: self.end}[whence]
+        self.pos = base + offset
+        return self.pos
+
+    def write(self, data: Any) -> int:
+        if _SLOW_WRITES:
+            time.sleep(_SLOW_WRITES)
+        data = bytes(data)
+        if self.error is None:
+            try:
+                written = 0
+                while written < len(data):
+                    written += os.pwrite(self.fd, data[written:], self.pos + written)
+            except OSError as exc:
+                self.error = exc
+                self.held[self.pos + written] = data[written:]
+        else:
+            self.held[self.pos] = data
+        self.pos += len(data)
+        self.end = max(self.end, self.pos)
+        return len(data)
+
+    def readinto(self, buffer: Any) -> int:
+        view = memoryview(buffer).cast("B")
+        n = min(len(view), max(0, self.end - self.pos))
+        got = os.preadv(self.fd, [view[:n]], self.pos) if n else 0
+        view[got:n] = bytes(n - got)
+        for offset, data in self.held.items():  # what the disk did not take
+            lo, hi = max(offset, self.pos), min(offset + len(data), self.pos + n)
+            if lo < hi:
+                view[lo - self.pos : hi - self.pos] = data[lo - offset : hi - offset]
+        self.pos += n
+        return n
+
+    def truncate(self, size: int | None = None) -> int:
+        size = self.pos if size is None else size
+        if self.error is None:
+            try:
+                os.ftruncate(self.fd, size)
+            except OSError as exc:
+                self.error = exc
+        self.end = size
+        return size
+
+    def flush(self) -> None:
+        pass
+
+    def check(self) -> None:
+        """Raise the OSError a write met, if any."""
+        if self.error is not None:
+            raise self.error
 
 
 def write_text(path: str | Path, text: str) -> Path:
@@ -61,11 +194,14 @@ def write_text(path: str | Path, text: str) -> Path:
     return path
 
 
-def reason(exc: OSError) -> str:
-    """The operating system's reason for an OSError, e.g. "No space left on device" (h5py's
-    errors hold a long text naming the temporary file, with the reason inside it)."""
-    if exc.errno:
+def reason(exc: BaseException) -> str:
+    """The operating system's reason for an error while writing, e.g. "No space left on
+    device" (h5py's errors hold a long text naming the temporary file, with the reason inside
+    it, or none: then the errno of the OSError behind it)."""
+    if isinstance(exc, OSError) and exc.errno:
         return os.strerror(exc.errno)
+    if "errno = 28" in str(exc) or "No space left" in str(exc):
+        return os.strerror(28)
     found = re.search(r"error message = '([^']+)'", str(exc))
     return found[1] if found else str(exc) or type(exc).__name__
 

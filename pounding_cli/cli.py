@@ -36,11 +36,15 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON document t
 @contextmanager
 def reported() -> Iterator[None]:
     """Turn pound's errors into a message on stderr and their exit code; never a traceback."""
+    from .interrupts import InterruptedAfterWriting, die_by
+
     try:
         yield
     except PoundError as exc:
         err.print(str(exc), markup=False)
         raise typer.Exit(exc.exit_code) from None
+    except InterruptedAfterWriting as exc:  # the result file is complete: end as the signal asks
+        die_by(exc.signum)
     except KeyboardInterrupt:
         err.print("interrupted", markup=False)
         raise typer.Exit(1) from None
@@ -147,23 +151,31 @@ def _validate_sweep(file: Path, data: dict[str, Any], json_: bool) -> None:
 def run(
     model: ModelArg,
     output: Annotated[
-        Path | None,
-        typer.Option("-o", "--output", help="HDF5 result file (default: the model's name with .h5, in the current folder)."),
+        str | None,
+        typer.Option("-o", "--output", help="HDF5 result file (default: the model's name with .h5, in the current "
+                     "folder); a name ending in / is a folder, written into with that default name."),
     ] = None,
     json_: JsonOpt = False,
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress on stderr: a bar on a terminal, else a line per 10 % (default: on when stderr is a terminal).")
     ] = None,
-    force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists.")] = False,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the run's inputs).")] = False,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
-    from .api import run_model
+    import signal
 
-    target = output if output is not None else Path(model.name).with_suffix(".h5")
     show = sys.stderr.isatty() if progress is None else progress
-    with reported():
+    with reported():  # from the start: a SIGTERM while pound loads is "interrupted", exit 1
+        from .api import default_output, run_model
+        from .outputs import output_file
+
+        target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
         with _progress_bar(show) as bar:
             result = run_model(model, output=target, progress=bar, force=force)
+    for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
+        signal.signal(sig, signal.SIG_DFL)
+    if note:
+        err.print(note, markup=False)
     summary = run_summary(result)
     if json_:
         print(json.dumps(summary, indent=2))
@@ -183,7 +195,8 @@ def run(
     "and OUTPUT/summary.csv and summary.h5 get one row per case. Rerunning skips the cases "
     "already complete (matched by their inputs and pound's version number, which stays the same "
     "while a development install's code changes: after updating or changing pound, give a fresh "
-    "OUTPUT). Runs on local processes (--jobs, default all cores) or a Dask cluster "
+    "OUTPUT). OUTPUT must be new, empty or a sweep's own (it holds a .pound-sweep marker); another "
+    "folder needs --force. Runs on local processes (--jobs, default all cores) or a Dask cluster "
     "(--scheduler, --scheduler-file). Exits 1 if a case failed."
 )
 def sweep(
@@ -213,6 +226,9 @@ def sweep(
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
     ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Write into an OUTPUT folder that a sweep did not create and that is not empty (its sweep.json, summary.* and cases/ are replaced; never the sweep's inputs).")
+    ] = False,
 ) -> None:
     """Run a parametric sweep."""
     from .sweep.progress import SweepProgress, print_cases, print_outcome
@@ -235,7 +251,7 @@ def sweep(
             outcome = run_sweep(
                 sweep_file, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file,
                 studies=study, dry_run=dry_run, on_row=emit if json_ and not dry_run else None,
-                on_progress=bar.update, log=bar.log,
+                on_progress=bar.update, log=bar.log, force=force,
             )  # fmt: skip
     if dry_run:
         if json_:
@@ -313,8 +329,12 @@ def record(
         data = open_record(file, trace=trace, units=units, format=format, dt=dt)
         summary = summarise(data).model_dump(mode="json")
         if plot is not None:
+            from .outputs import refuse_inputs
             from .records.plot import record_figure, save_figure
 
+            inputs = [(file, "the record being described")] + [(file.parent / c.file, f"the record file of {c.name}")
+                                                         for c in data.components if c.file]  # fmt: skip
+            refuse_inputs(plot, inputs, "another file for the plot (--plot)")
             save_figure(record_figure(data), plot)
     if json_:
         print(json.dumps(summary, indent=2, ensure_ascii=False))
@@ -468,6 +488,7 @@ def report(
     with reported():
         sweep_folder = next((p for p in paths if p.is_dir()), None)
         check_options(sweep_folder is not None, given)
+        _refuse_reading_what_is_written(paths, [html, animate])
         if sweep_folder is not None:
             if len(paths) > 1:
                 from .errors import InputError
@@ -499,6 +520,20 @@ def report(
             out.print(f"[bold red]{warning}[/bold red]")
         for spec in tables:
             out.print(rich_table(spec), soft_wrap=False)
+
+
+def _refuse_reading_what_is_written(paths: list[Path], outputs: list[Path | None]) -> None:
+    """A report file (--html, --animate) must not be a file it reports on (a result file, a
+    sweep's summary): writing it would destroy the results."""
+    from .outputs import refuse_inputs
+
+    inputs = []
+    for p in paths:
+        inputs += ([(p / name, "a sweep summary being reported") for name in ("summary.h5", "summary.csv", "sweep.json")]
+                   if p.is_dir() else [(p, "a result file being reported")])  # fmt: skip
+    for output in outputs:
+        if output is not None:
+            refuse_inputs(Path(output), inputs, "another file for the report")
 
 
 def _run_report(paths, column, plots, fmt, html, floors, magnify, animation):
@@ -879,5 +914,13 @@ def _print_record(s: dict[str, Any]) -> None:
 
 
 def main() -> None:
-    """Console-script entry point."""
-    app()
+    """Console-script entry point. typer ends a KeyboardInterrupt (Ctrl-C, or a SIGTERM once
+    __main__ took it over) that arrives while it parses the command line with exit 130 and
+    no word; pound's contract for an interrupted command is exit 1, "interrupted"."""
+    try:
+        app()
+    except SystemExit as exc:
+        if exc.code == 130:
+            err.print("interrupted", markup=False)
+            raise SystemExit(1) from None
+        raise

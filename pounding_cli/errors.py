@@ -5,6 +5,7 @@
 - :class:`RecordReadError` — a ground-motion file could not be read; raised by
   :mod:`pounding_cli.records` without knowing which model field named the file,
   and turned into an :class:`InputError` by whoever does.
+- :class:`WriteError` — an InputError: a file could not be written (disk full); exit 2.
 - :class:`AnalysisFailed` — the analysis ran but failed (instability, blow-up);
   exit 1, partial results kept and marked.
 """
@@ -35,6 +36,12 @@ class InputError(PoundError):
         parts = [p for p in (self.file, self.field) if p]
         parts.append(self.message)
         return ": ".join(parts)
+
+
+class WriteError(InputError):
+    """A file could not be written (the disk full, no permission, a folder gone): exit 2,
+    "cannot write the file (reason)", with nothing left under the file's name or a temporary
+    one (pounding_cli.atomic). A sweep stops at the first case that could not be written."""
 
 
 class RecordReadError(PoundError):

@@ -12,16 +12,31 @@ run can raise it (``POUND_MAX_STEPS=1e9 pound run …``):
 - ``POUND_MAX_OUTPUT_GB`` — the result file, default 8 GiB: disk. Estimated by
   :func:`history_bytes`, every time history the file holds: the shipped examples' files are
   0.4–1.7 % larger (their tables, peaks and attributes; tests/test_limits.py).
-- ``POUND_MAX_MEMORY_GB`` — memory for the time histories, default half the machine's
-  physical memory: the solver holds every history in memory until the file is written, and
-  writing copies some of them (:func:`memory_bytes`: twice the histories).
-- ``POUND_MAX_STOREYS`` — storeys of one building, default 1000: the exact integrator holds
-  a dense (6N)² state-transition matrix of a building of N storeys (0.27 GiB at 1000).
+- ``POUND_MAX_MEMORY_GB`` — memory, default half the machine's physical memory: the time
+  histories, which the solver holds until the file is written and writing copies
+  (:func:`memory_bytes`: twice the histories), plus what setting the run up takes
+  (:func:`setup_bytes`: the exact integrator's matrix exponentials, 8·(48 + 4·B)·(6N + 4)²
+  bytes for B buildings of at most N storeys, measured; the assembled columns).
+- ``POUND_MAX_HOURS`` — estimated wall time of one analysis, default 24 h: the set-up (the
+  exact integrator's exponentials, 3e-8·(6N + 4)³ s per building; 0.3 ms per column
+  instance to assemble) and the time loop (:func:`step_seconds`, per step: 1.2 ns per entry
+  of each building's dense (3N)² step matrix, 10 ns per DOF, 5 ns per column instance, 10 ns
+  per contact pair). The rates were measured on the 2-core machine of docs/bench.md; a run
+  is refused only when the estimate is beyond the limit, so they need not be exact.
+- ``POUND_MAX_STOREYS`` — storeys of one building, default 1000: a bound on the count, checked
+  before anything else (whether such a building fits is then the memory and time estimates':
+  1000 storeys take 16 GiB and about 2 hours to set up the exact integrator).
+
+The set-up estimates are checked from the counts alone (storeys, column instances), before
+anything is assembled or allocated (:func:`check_setup`); the time loop's, with the contact
+pairs and the steps, once the time grid is chosen (:func:`check_run`). A floor entry's
+`repeat` is at most :data:`MAX_REPEAT`, a storey's columns (and a base's isolators) at most
+:data:`MAX_COLUMNS`: fixed bounds of the file format, checked while the file is read.
 
 The limits fit together: at the step limit with the default output interval (0.01 s), the
 paper's buildings at their contact step run 4300 s of analysis, whose histories take 0.3 GB:
 well inside the disk and memory limits, which bind only for short output intervals, long
-durations or large models. A floor entry's `repeat` is at most :data:`MAX_REPEAT`.
+durations or large models.
 """
 
 from __future__ import annotations
@@ -31,7 +46,15 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from .errors import InputError
+
+MAX_COUNT = 2**62
+"""The largest step or sample count a time grid holds (assembly/timestep.py: whole): a count
+that would be larger, or not finite (a duration of 1e308 s, a step of 5e-324 s), is held at
+MAX_COUNT, which the step limit refuses naming the field that causes it, rather than
+overflowing on its way to an integer."""
 
 GiB = 2**30
 EVENT_BUFFER_BYTES = 200_000 * 11 * 8
@@ -73,6 +96,11 @@ def max_memory_bytes() -> float:
     return limit("MAX_MEMORY_GB", physical / 2 / GiB) * GiB
 
 
+def max_hours() -> float:
+    """Longest estimated wall time of one analysis, hours (POUND_MAX_HOURS, default 24)."""
+    return limit("MAX_HOURS", 24)
+
+
 def max_storeys() -> float:
     """Most storeys of one building (POUND_MAX_STOREYS, default 1000)."""
     return limit("MAX_STOREYS", 1000)
@@ -93,6 +121,114 @@ def check_repeat(repeat: int) -> None:
             f"{_gib(propagator_bytes(repeat))} for the exact integrator's (6N)² matrix); a building of more storeys "
             f"takes several entries, up to {max_storeys():.0f} storeys in all (POUND_MAX_STOREYS)"
         )
+
+
+MAX_COLUMNS = 10_000
+"""Most columns in one storey (a grid's crossings and the ones given one by one), and most
+isolators under one base slab: a fixed bound of the file format, checked from the grid's
+line counts before any column is generated (a 1000 × 1000 grid made validation hang).
+Checking and assembling a column instance takes about 0.3 ms, and every step 5 ns."""
+
+
+def check_columns(count: int, what: str = "columns in one storey") -> None:
+    """ValueError (for the model's validators) if a storey has more than MAX_COLUMNS."""
+    if count > MAX_COLUMNS:
+        raise ValueError(
+            f"{count} {what}: at most {MAX_COLUMNS} (a fixed bound of the file format; each column is checked, "
+            f"assembled and followed at every step: about {count * SECONDS_PER_COLUMN:.3g} s to set up one storey "
+            "of them)"
+        )
+
+
+SECONDS_PER_COLUMN = 3e-4
+"""Set-up time per column instance (validated, assembled), s, measured: 31 s for 10⁵."""
+SECONDS_PER_PAIR = 3e-4
+"""Set-up time per contact candidate (its parameters, its likely contact line), s, measured:
+2.1 s for 8,850 (60 buildings of 5 storeys in a row)."""
+BYTES_PER_COLUMN = 600
+"""Memory per assembled column instance, bytes, measured: 276 MiB for 5·10⁵."""
+EXACT_SECONDS = 3e-8
+"""The exact integrator's set-up per building of augmented size s = 6N + 4: EXACT_SECONDS·s³
+(its matrix exponentials and eigenvalues), measured: 158 s at N = 300, 64 s at N = 200."""
+EXACT_MATRICES = 48
+"""The exact integrator's peak memory in (6N + 4)² matrices of 8 bytes, for the largest
+building, plus 4 per building for the propagators kept: 1408 MiB measured at N = 300 (two
+buildings: 56 matrices of 26 MiB)."""
+STEP_SECONDS = {"dense": 1.2e-9, "dof": 1e-8, "column": 5e-9, "pair": 1e-8, "exact": 4e-9}
+"""The time loop's cost per step, s, measured on the CDM (fixed Δt, 2 s of record): per entry
+of each building's dense step matrix B⁻¹ (3N)² (105 µs/step at N = 100), per DOF, per column
+instance (43 µs/step for 9,000), per contact pair (7 µs for 1,050); an exact step costs "exact"
+per entry of each building's (6N + 4)² propagator."""
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What a model's size is before it is assembled: the counts the estimates need."""
+
+    storeys: tuple[int, ...]  # per building, the base slab of an isolated one included
+    columns: tuple[int, ...]  # column instances per building (columns × the storeys they repeat in)
+    exact: bool  # the exact (hybrid) integrator may run: its dense matrix exponentials
+    pairs: int = 0  # contact candidates: floors of two buildings at one level, floors and obstacles
+
+    @property
+    def dofs(self) -> tuple[int, ...]:
+        return tuple(3 * n for n in self.storeys)
+
+
+def setup_bytes(setup: Setup) -> float:
+    """Memory of setting a run up, bytes: the columns, each building's dense K, C and step
+    matrix, and for the exact integrator its matrix exponentials (EXACT_MATRICES)."""
+    n_max, n_b = max(setup.dofs), len(setup.dofs)
+    dense = 8.0 * 4 * n_b * float(n_max) ** 2
+    exact = 8.0 * (EXACT_MATRICES + 4 * n_b) * float(2 * n_max + 4) ** 2 if setup.exact else 0.0
+    return BYTES_PER_COLUMN * float(sum(setup.columns)) + dense + exact
+
+
+def setup_seconds(setup: Setup) -> float:
+    """Wall time of setting a run up, s: the columns and, for the exact integrator, its
+    matrix exponentials (cubic in each building's size)."""
+    exact = sum(EXACT_SECONDS * float(2 * n + 4) ** 3 for n in setup.dofs) if setup.exact else 0.0
+    return SECONDS_PER_COLUMN * float(sum(setup.columns)) + SECONDS_PER_PAIR * setup.pairs + exact
+
+
+def step_seconds(setup: Setup, n_pairs: int, exact: bool = False) -> float:
+    """Wall time of one step of the time loop, s (STEP_SECONDS): a CDM step, or an exact one."""
+    c = STEP_SECONDS
+    matrix = sum(c["exact"] * float(2 * n + 4) ** 2 if exact else c["dense"] * float(n) ** 2 for n in setup.dofs)
+    return matrix + c["dof"] * sum(setup.dofs) + c["column"] * sum(setup.columns) + c["pair"] * n_pairs
+
+
+def check_setup(setup: Setup, source: str | Path) -> None:
+    """Refuse, before anything is assembled, a model whose set-up alone would take more memory
+    or time than the limits, naming the floors of the building that causes it."""
+    sizes = [(4 * n * n + (EXACT_MATRICES * (2 * n + 4) ** 2 if setup.exact else 0), b) for b, n in enumerate(setup.dofs)]
+    b = max(sizes)[1] if sum(setup.columns) * BYTES_PER_COLUMN < max(sizes)[0] * 8 else int(np.argmax(setup.columns))
+    memory, most = setup_bytes(setup), max_memory_bytes()
+    what = (f"{setup.storeys[b]} storeys and {setup.columns[b]} column instances in building {b}"
+            + (", with the exact integrator (integrator = \"cdm\" needs no matrix exponentials)" if setup.exact else "")
+            + (f"; {setup.pairs} contact pairs" if setup.pairs else ""))  # fmt: skip
+    if memory > most:
+        raise InputError(
+            f"setting the analysis up would take about {_gib(memory)} of memory ({what}), more than the limit of "
+            f"{_gib(most)} (POUND_MAX_MEMORY_GB)",
+            file=source,
+            field=f"buildings[{b}].floors",
+        )
+    seconds, hours = setup_seconds(setup), max_hours()
+    if seconds > 3600 * hours:
+        raise InputError(
+            f"setting the analysis up would take about {_duration(seconds)} ({what}, at the rates measured in "
+            f"pounding_cli/limits.py), more than the limit of {hours:g} h (POUND_MAX_HOURS)",
+            file=source,
+            field=f"buildings[{b}].floors",
+        )
+
+
+def _duration(seconds: float) -> str:
+    """A duration in s, min or h."""
+    if seconds < 120:
+        return f"{seconds:.3g} s"
+    return f"{seconds / 60:.3g} min" if seconds < 7200 else f"{seconds / 3600:.3g} h"
 
 
 def propagator_bytes(storeys: int) -> float:
@@ -131,6 +267,24 @@ def memory_bytes(size: Size, samples: int) -> int:
     return 2 * history_bytes(size, samples) + (EVENT_BUFFER_BYTES if size.n_pairs else 0)
 
 
+def check_structure(system, source: str | Path) -> None:  # type: ignore[no-untyped-def]
+    """Refuse a building whose natural frequencies or damped decay rates are not finite
+    (numbers at the ends of their ranges overflow in K or M⁻¹K): nothing derived from them
+    could be trusted, and the time step would divide by them."""
+    for b, bld in enumerate(system.buildings):
+        omega = bld.modes.omega
+        rate = bld.fastest_rate()[0]
+        if not (np.all(np.isfinite(omega)) and math.isfinite(rate) and omega[-1] > 0):
+            raise InputError(
+                f"building {bld.name!r} has natural frequencies that are not finite numbers (ω_max = {omega[-1]:.4g} "
+                f"rad/s, fastest decay {rate:.4g} 1/s): its stiffness, masses or damping reach beyond floating-point "
+                "range; check the units of its column sections (m), storey heights (m), elastic_modulus (Pa), "
+                "masses (kg) and rotational_inertia (kg·m²)",
+                file=source,
+                field=f"buildings[{b}]",
+            )
+
+
 def check_storeys(storeys: int, source: str | Path, field: str) -> None:
     """Refuse a building of more storeys than max_storeys()."""
     most = max_storeys()
@@ -161,53 +315,110 @@ class Run:
     structure_limit: float  # s, 2/ω_max of the structure
     contact_limit: float  # s, 2/ω of the stiffest contact estimate (inf without contact)
     stiffest: tuple[int, str]  # (index, name) of the building of the highest natural frequency
+    overdamped: tuple[int, str, int, float, float] | None = None  # (building, name, mode, ζ, ρ 1/s) where an
+    # overdamped mode's decay rate ρ exceeds ω_max and bounds the hybrid's exact step
+    contact_field: str = "contact.k_normal"  # the field that sets the contact the automatic step follows
+    contact_auto: bool = False  # that field is "auto": the materials' elastic_modulus set it
 
 
-def check_run(run: Run, size: Size, source: str | Path) -> None:
-    """Refuse a run beyond the step, disk or memory limit, naming the field that causes it."""
+def check_run(run: Run, size: Size, source: str | Path, setup: Setup | None = None, exact_steps: int = 0) -> None:
+    """Refuse a run beyond the step, disk, memory or time limit, naming the field that causes
+    it. `setup`: the model's counts (for the set-up's memory and time); `exact_steps`: the
+    hybrid's exact steps without contact (grid.free_steps), 0 for the CDM."""
     steps = max_steps()
     if run.n_steps > steps:
         field, why = _step_cause(run, steps)
+        count = f"more than {MAX_COUNT:.3g}" if run.n_steps >= MAX_COUNT else f"{run.n_steps:.3g}"
+        asked = run.given_duration if run.given_duration is not None else run.record_duration
+        dt = run.given_dt if run.given_dt is not None and run.given_dt < run.dt else run.dt
         raise InputError(
-            f"the analysis would take {run.n_steps:.3g} time steps ({run.duration:.4g} s at Δt = {run.dt:.3g} s), "
+            f"the analysis would take {count} time steps ({asked:.4g} s at Δt = {dt:.3g} s), "
             f"more than the limit of {steps:.3g} (POUND_MAX_STEPS); {why}",
             file=source,
             field=field,
         )
-    for estimate, most, what, variable in (
-        (history_bytes(size, run.n_outputs), max_output_bytes(), "its result file would take", "POUND_MAX_OUTPUT_GB"),
-        (memory_bytes(size, run.n_outputs), max_memory_bytes(), "its time histories would hold", "POUND_MAX_MEMORY_GB"),
-    ):
-        if estimate > most:
-            field, why = _sample_cause(run, size, estimate, most)
+    extra = setup_bytes(setup) if setup is not None else 0.0
+    for estimate, most, what, variable, more in (
+        (history_bytes(size, run.n_outputs), max_output_bytes(), "its result file would take", "POUND_MAX_OUTPUT_GB", 0.0),
+        (memory_bytes(size, run.n_outputs), max_memory_bytes(), "its time histories would hold", "POUND_MAX_MEMORY_GB",
+         extra),
+    ):  # fmt: skip
+        if estimate + more > most:
+            field, why = _sample_cause(run, size, estimate, most - more)
+            besides = f" beside the {_gib(more)} of setting it up" if more >= 2**20 else ""
             raise InputError(
                 f"{what} {_gib(estimate)} ({run.n_outputs:.3g} samples every {run.output_interval:.3g} s × "
                 f"{size.per_sample} bytes: {size.n_dof} DOFs, {size.n_pairs} contact pairs, {size.n_members} "
-                f"yielding members), more than the limit of {_gib(most)} ({variable}); {why}",
+                f"yielding members){besides}, more than the limit of {_gib(most)} ({variable}); {why}",
                 file=source,
                 field=field,
             )
+    if setup is not None:
+        _check_time(run, size, setup, exact_steps, source)
+
+
+def _check_time(run: Run, size: Size, setup: Setup, exact_steps: int, source: str | Path) -> None:
+    """Refuse a run whose estimated wall time (set-up and time loop) is beyond POUND_MAX_HOURS:
+    the time loop's steps (the CDM's, or the hybrid's exact ones where no contact is
+    possible: contacts add CDM steps, so the estimate is a lower bound there) times their
+    cost (step_seconds)."""
+    per_step = step_seconds(setup, size.n_pairs, exact=exact_steps > 0)
+    loop = per_step * (exact_steps or run.n_steps)
+    total, hours = setup_seconds(setup) + loop, max_hours()
+    if total <= 3600 * hours:
+        return
+    costs = f"set-up {_duration(setup_seconds(setup))}, {exact_steps or run.n_steps:.3g} steps of {per_step * 1e6:.3g} µs"
+    if loop > 10 * setup_seconds(setup) and per_step < 1e-4:  # many steps of a small model: the steps' cause
+        field, why = _step_cause(run, (3600 * hours - setup_seconds(setup)) / per_step)
+    else:
+        b = int(np.argmax([n * n + 4 * c for n, c in zip(setup.dofs, setup.columns)]))
+        field = f"buildings[{b}].floors"
+        why = (f"building {b} has {setup.storeys[b]} storeys and {setup.columns[b]} column instances, "
+               f"and the scene {size.n_pairs} contact pairs")  # fmt: skip
+    raise InputError(
+        f"the analysis would take about {_duration(total)} ({costs}, at the rates measured in "
+        f"pounding_cli/limits.py), more than the limit of {hours:g} h (POUND_MAX_HOURS); {why}",
+        file=source,
+        field=field,
+    )
 
 
 def _step_cause(run: Run, most: float) -> tuple[str, str]:
     """The field that makes the run take too many steps, and what to do about it."""
     natural = run.given_dt if run.given_dt is not None else run.auto_dt
-    if run.given_output_interval < natural and run.dt <= run.given_output_interval * (1 + 1e-9):
+    forced = run.dt < natural * (1 - 1e-9) and run.output_interval <= max(run.given_output_interval, run.dt) * (1 + 1e-9)
+    if run.given_output_interval < natural and (run.dt <= run.given_output_interval * (1 + 1e-9) or forced):
         return "analysis.output_interval", (
             f"an output interval of {run.given_output_interval:g} s forces the time step down to it (else Δt = "
             f"{natural:.3g} s); check its unit (s) and store less often"
         )
-    if run.given_duration is not None and math.ceil(run.record_duration / run.dt) <= most:
+    record_steps = run.record_duration / run.dt  # the steps of the record's own length
+    if run.given_duration is not None and run.given_duration > run.record_duration and (
+        record_steps <= most or run.given_duration / run.record_duration > record_steps / most
+    ):  # the duration is what exceeds the limit, or exceeds the record by more than the record exceeds it
         return "analysis.duration", (
             f"a duration of {run.given_duration:g} s is {run.given_duration / run.record_duration:.3g} times the "
             "record's length; check its unit (s)"
         )
     if run.given_dt is not None:
         return "analysis.dt", f'a time step of {run.given_dt:g} s is far below what the model needs; check its unit (s) or use "auto"'
+    if run.overdamped is not None and run.dt < natural * (1 - 1e-9):
+        b, name, mode, zeta, rate = run.overdamped
+        return f"buildings[{b}].damping", (
+            f"its Rayleigh damping gives mode {mode} of building {name!r} a damping ratio of {zeta:.3g}: that "
+            f"overdamped mode decays at {rate:.3g} 1/s, faster than any vibration (ω_max = "
+            f"{2 / run.structure_limit:.3g} rad/s), and the exact steps must resolve it; anchor the damping at "
+            "modes that vibrate (damping.modes) or check the masses and rotational_inertia (kg, kg·m²)"
+        )
     if run.contact_limit < run.structure_limit:
-        return "contact.k_normal", (
-            f'Δt = "auto" follows the stiffest contact (stability limit {run.contact_limit:.3g} s); check the units '
-            "of the impact stiffness k_normal (N/m²) and of the materials' elastic_modulus (Pa)"
+        field = run.contact_field
+        stiffness = field.rsplit(".", 1)[-1]
+        unit = "N/m²" if stiffness == "k_normal" else "N/m"
+        check = ("it is \"auto\": check the units of the materials' elastic_modulus (Pa)" if run.contact_auto
+                 else f"check its unit ({unit})")  # fmt: skip
+        return field, (
+            f'Δt = "auto" follows the stiffest contact (stability limit {run.contact_limit:.3g} s), which '
+            f"{stiffness} sets; {check}"
         )
     b, name = run.stiffest
     return f"buildings[{b}]", (

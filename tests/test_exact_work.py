@@ -45,7 +45,7 @@ def test_step_work_matches_the_integrated_powers(h):
                                          rtol=1e-12, atol=1e-14, dense_output=True)  # fmt: skip
     times = np.linspace(0.0, h, 20001)
     states = solution.sol(times)
-    u, v = states[:n], states[n:]
+    v = states[n:]
     x1 = states[:, -1]
     assert np.abs(phi @ x0 + g0 @ a0 + g1 @ da - x1).max() < 1e-9 * np.abs(x1).max()
     ground = a0[:, None] + da[:, None] * times / h

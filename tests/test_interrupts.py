@@ -171,7 +171,7 @@ def test_a_kill_while_the_file_is_written_leaves_no_final_file(tmp_path, sig):
     process = _start(tmp_path, out, pause_writing=60.0, extra=["--force"])
     _wait_for(tmp_path / "writing", process)
     temporary = tmp_path / f".out.h5.{process.pid}.tmp"
-    assert temporary.exists() and h5py.is_hdf5(temporary), "the file is being written under its temporary name"
+    assert temporary.exists(), "the file is being written under its temporary name"
     process.send_signal(sig)
     _, stderr = process.communicate(timeout=60)
     assert out.read_bytes() == b"an older result"

@@ -62,6 +62,11 @@ JSON_EXPECT: dict[str, list[str]] = {
     ],
     "invalid_sweep_json_mode.json": ["mode: Input should be 'grid' or 'zip'; got 'zap'"],
     "invalid_sweep_json_syntax.json": ["invalid JSON", "line 1, column 78"],
+    # JSON allows a key twice (the last wins); TOML refuses it, and so does pound in JSON.
+    "invalid_json_duplicate_key.json": ["buildings[0].floors[0]: the key 'height' appears twice in one object"],
+    "invalid_json_integer_5000_digits.json": [
+        "buildings[0].floors[0].mass_per_area: a whole number of 5000 digits, more than the 4300"
+    ],
 }
 
 XFAIL: dict[str, str] = {}

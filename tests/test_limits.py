@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import re
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -164,3 +165,106 @@ def test_the_disk_estimate_matches_the_real_file(tmp_path, name):
     api.execute(scene, tmp_path / "out.h5")
     real = (tmp_path / "out.h5").stat().st_size
     assert 1.0 <= real / estimate <= 1.05, (real, estimate)
+
+
+# --- issue 27: limits that refuse before allocating, from the counts ------------------------
+
+
+def _storeys(doc, n):
+    floor = doc["buildings"][0]["floors"][0]
+    doc["buildings"][0]["floors"] = [dict(floor, repeat=min(500, n - k)) for k in range(0, n, 500)]
+    return doc
+
+
+def test_a_thousand_storeys_is_refused_from_the_counts_before_anything_is_assembled(monkeypatch):
+    """The documented storey limit (1000) passes the count; its exact integrator would then
+    take 16 GiB (8·(48 + 4·2)·6004² bytes: measured 56 matrices of (6N + 4)² at 200 and 300
+    storeys) and about 2 hours (3e-8·6004³ s): refused by memory on a machine of less than
+    32 GiB, or by time at 1 hour, with nothing assembled: a run used to grow to 9.5 GB and
+    still be setting up after 200 s."""
+    import time
+
+    doc = _storeys(example_doc(), 1000)
+    monkeypatch.setattr(api, "assemble", lambda loaded: pytest.fail("assembled before the limits refused"))
+    start = time.perf_counter()
+    message = refusal(doc, MAX_MEMORY_GB=11.5)
+    assert time.perf_counter() - start < 2.0
+    assert message.endswith("buildings[0].floors: setting the analysis up would take about 15.58 GiB of memory (1000 "
+                            "storeys and 9000 column instances in building 0, with the exact integrator (integrator = "
+                            "\"cdm\" needs no matrix exponentials); 3 contact pairs), more than the limit of 11.5 GiB "
+                            "(POUND_MAX_MEMORY_GB)"), message  # fmt: skip
+    message = refusal(doc, MAX_MEMORY_GB=64, MAX_HOURS=1)
+    assert "buildings[0].floors: setting the analysis up would take about 108 min" in message, message
+    assert "more than the limit of 1 h (POUND_MAX_HOURS)" in message
+
+
+def test_the_cdm_needs_no_exponentials():
+    """integrator = "cdm" sets up dense (3N)² matrices only: a thousand storeys fit."""
+    doc = _storeys(example_doc(), 1000)
+    doc["analysis"]["integrator"] = "cdm"
+    setup = api.setup_counts(load_doc(doc))
+    assert setup.storeys == (1000, 3) and setup.columns == (9000, 45) and not setup.exact
+    assert limits.setup_bytes(setup) < 2**30 and limits.setup_seconds(setup) < 10
+
+
+@pytest.mark.parametrize("where", ["column_grid", "isolator_grid", "columns"])
+def test_a_huge_storey_is_refused_before_any_column_is_made(where):
+    """A 1000 × 1000 grid hung validation: a million Column objects, checked one by one, and
+    their names compared with each other (quadratic). The count is checked first."""
+    import time
+
+    from pounding_cli.model import validate_model
+
+    doc = example_doc()
+    floor = doc["buildings"][0]["floors"][0]
+    lines = [float(i) for i in range(1000)]
+    if where == "column_grid":
+        floor["column_grid"].update(x=lines, y=lines)
+        expected = "buildings[0].floors[0].column_grid: 1000000 columns on one grid: at most 10000"
+    elif where == "columns":
+        floor["columns"] = [{"name": f"X{i}", "x": 1.0, "y": 1.0, "section": [0.3, 0.3], "material": "concrete"}
+                            for i in range(10_001)]  # fmt: skip
+        expected = "buildings[0].floors[0].columns: List should have at most 10000 items after validation"
+    else:
+        doc = pound.load_model(INPUTS / "isolated_moat.toml").model.model_dump(mode="json")
+        doc["buildings"][0]["isolation"]["isolator_grid"].update(x=lines, y=lines)
+        expected = "buildings[0].isolation: 1000000 isolators under one base slab: at most 10000"
+    start = time.perf_counter()
+    with pytest.raises(InputError) as caught:
+        validate_model(doc, INPUTS / "huge.toml")
+    assert time.perf_counter() - start < 3.0
+    assert expected in str(caught.value), str(caught.value)
+
+
+def test_the_time_loop_estimate_counts_columns_pairs_and_steps():
+    """Past the set-up, the time loop: steps × their cost (dense step matrices, DOFs, column
+    instances, pairs). A lowered POUND_MAX_HOURS refuses the paper's example, naming the
+    step's cause: its Δt follows the contact."""
+    setup = api.setup_counts(load_doc(example_doc()))
+    assert setup.pairs == 3 and setup.columns == (36, 45)
+    scene = api.prepare(load_doc(example_doc()))
+    steps = scene.grid.free_steps(scene.ground.dt)
+    loop = steps * limits.step_seconds(setup, 3, exact=True)
+    assert loop > 0
+    hours = (limits.setup_seconds(setup) + 0.5 * loop) / 3600  # the set-up passes, the loop does not
+    message = refusal(example_doc(), MAX_HOURS=hours)
+    assert f"the analysis would take about {limits._duration(limits.setup_seconds(setup) + loop)} (set-up" in message, message
+    assert f"{steps:.3g} steps of" in message and "(POUND_MAX_HOURS)" in message
+
+
+def test_level_pairs_match_every_floor_against_every_floor():
+    """The candidates found by sorting elevations are those of the all-pairs loop, in its order."""
+    from pounding_cli.assembly.contact import LEVEL_TOLERANCE, _level_pairs
+
+    rng = np.random.default_rng(3)
+
+    class B:
+        def __init__(self, z):
+            self.elevation = z
+
+    for _ in range(50):
+        blds = [B(np.cumsum(rng.choice([3.0, 3.0005, 3.5, 4.0], size=rng.integers(1, 12)))) for _ in range(rng.integers(1, 5))]
+        flat = [(b, f, bld) for b, bld in enumerate(blds) for f in range(bld.elevation.size)]
+        brute = [(ia, ib) for ia, (ba, fa, a) in enumerate(flat) for ib, (bb, fb, b) in enumerate(flat)
+                 if bb > ba and abs(a.elevation[fa] - b.elevation[fb]) < LEVEL_TOLERANCE]  # fmt: skip
+        assert _level_pairs(flat) == brute

@@ -201,6 +201,7 @@ def test_missing_corrupt_and_foreign_files_are_rerun(two_jobs, tmp_path):
     outcome, _ = two_jobs
     folder = tmp_path / "copy"
     (folder / "cases").mkdir(parents=True)
+    (folder / ".pound-sweep").write_bytes((outcome.folder / ".pound-sweep").read_bytes())  # a sweep's folder
     files = [outcome.folder / r["file"] for r in outcome.rows]
     for f in files[2:]:
         (folder / "cases" / f.name).write_bytes(f.read_bytes())

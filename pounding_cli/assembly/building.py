@@ -13,7 +13,9 @@ from ..errors import InputError
 from ..model import Building, Material
 from ..model.inelastic import Bearing, Hysteresis
 from .columns import column_local_stiffness, column_plan_stiffness, storey_stiffness
-from .damping import DampingLink, damping_matrix, isolated_frequency, isolation_dashpots, isolation_links
+from .damping import (
+    DampingLink, damping_matrix, isolated_frequency, isolation_dashpots, isolation_links, modal_damping_ratios,
+)  # fmt: skip
 from .modal import Modes, modes, rayleigh_coefficients
 from .polygon import polar_moment_about_centroid, polygon_area, polygon_centroid
 
@@ -69,6 +71,20 @@ class BuildingArrays:
     @property
     def n_floors(self) -> int:
         return self.elevation.size
+
+    def fastest_rate(self) -> tuple[float, int, float]:
+        """(ρ, mode, ζ): the largest |λ| of the building's modes under its damping, 1/s, and
+        the mode (1-based) and damping ratio that give it. An underdamped mode's |λ| is ω; an
+        overdamped one (ζ > 1) decays at up to ω·(ζ + √(ζ² − 1)) ≈ 2ζω, which exceeds ω_max
+        where Rayleigh damping anchored at very slow modes overdamps the fast ones (ζ from the
+        modal projection of C: exact for classical damping, an estimate with an isolated
+        building's links)."""
+        omega = self.modes.omega
+        with np.errstate(all="ignore"):
+            zeta = np.nan_to_num(modal_damping_ratios(self.damping, self.modes.shapes, omega), nan=0.0, posinf=np.inf)
+            rate = np.where(zeta > 1.0, omega * (zeta + np.sqrt(np.maximum(zeta * zeta - 1.0, 0.0))), omega)
+        k = int(np.argmax(np.where(np.isnan(rate), np.inf, rate)))
+        return float(rate[k]), k + 1, float(zeta[k])
 
 
 def _plan_transform(building: Building):

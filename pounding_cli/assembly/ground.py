@@ -100,7 +100,10 @@ def _hashes(motion: RecordMotion, record_file: Path | None) -> dict[str, str]:
 
     hashes = dict(motion.file_sha256)
     if record_file is not None:
-        hashes["definition"] = hashlib.sha256(record_file.read_bytes()).hexdigest()
+        from ..files import read_regular
+        from ..model.load import MAX_MODEL_BYTES
+
+        hashes["definition"] = hashlib.sha256(read_regular(record_file, MAX_MODEL_BYTES)).hexdigest()
     return hashes
 
 

@@ -86,6 +86,13 @@ class System:
         """Highest natural circular frequency of any building, rad/s."""
         return max(float(b.modes.omega[-1]) for b in self.buildings)
 
+    def fastest_rate(self) -> tuple[float, int, int, float]:
+        """(ρ, building, mode, ζ): the largest |λ| of any building's damped modes, 1/s (≥ ω_max;
+        BuildingArrays.fastest_rate), and where it is."""
+        rates = [b.fastest_rate() for b in self.buildings]
+        k = max(range(len(rates)), key=lambda i: rates[i][0] if rates[i][0] == rates[i][0] else np.inf)
+        return rates[k][0], k, rates[k][1], rates[k][2]
+
     def building_dofs(self, b: int) -> slice:
         """DOF slice of building b."""
         return slice(3 * int(self.floor_start[b]), 3 * int(self.floor_start[b + 1]))

@@ -31,6 +31,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import InputError
+from ..limits import MAX_COUNT
 from ..model import Analysis
 from ..solver.tunables import (
     APPROACH_MIN_STEPS,
@@ -61,6 +62,7 @@ class TimeGrid:
     substep: int = 0  # CDM steps per exact substep; 0 = CDM only
     yield_substep: int = 0  # hybrid: CDM steps per substep while only members may yield (≤ substep)
     contact_step_limit: float = float("inf")  # 2/ω of the likely contacts the automatic step follows, s
+    fastest_rate: float = 0.0  # ρ of the structure, 1/s (≥ ω_max; more where a mode is overdamped): hybrid_sampling bounds ρ·h
 
     @property
     def integrator(self) -> Literal["cdm", "hybrid"]:
@@ -83,12 +85,10 @@ class TimeGrid:
         if not self.substep:
             return self.n_steps
         total = self.n_steps // self.substep
-        if 2.0 / self.stability_limit * 2.0 * self.dt * self.substep > CREST_SPAN:
+        if max(2.0 / self.stability_limit, self.fastest_rate) * 2.0 * self.dt * self.substep > CREST_SPAN:
             return total
-        per_record = max(1, round(record_dt / (self.dt * self.substep)))
-        marks = np.union1d(np.arange(0, total + 1, self.stride // self.substep), np.arange(0, total + 1, per_record))
-        marks = np.union1d(marks, [total])
-        return int(np.sum((np.diff(marks) + 1) // 2))
+        per_record = nearest(record_dt / (self.dt * self.substep))
+        return paired_steps(total, self.stride // self.substep, per_record)
 
     @property
     def output_interval(self) -> float:
@@ -101,6 +101,43 @@ class TimeGrid:
     @property
     def n_outputs(self) -> int:
         return self.n_steps // self.stride + 1
+
+
+def whole(x: float) -> int:
+    """ceil(x) as an integer, for a count derived from the input: at least 1 and at most
+    MAX_COUNT, NaN and infinity included (their runs are refused by the limits)."""
+    if not x < MAX_COUNT:  # also NaN and +inf
+        return MAX_COUNT
+    return max(1, math.ceil(x))
+
+
+def nearest(x: float) -> int:
+    """round(x) as an integer count, at least 1 and at most MAX_COUNT (as whole())."""
+    if not x < MAX_COUNT:
+        return MAX_COUNT
+    return max(1, round(x))
+
+
+def _ratio(a: float, b: float) -> float:
+    """a/b for positive a, b; inf where b underflows to 0 or the quotient overflows."""
+    return a / b if b > 0 else math.inf
+
+
+def paired_steps(total: int, a: int, b: int) -> int:
+    """Steps over `total` substeps taken two at once except across a mark: every a-th and
+    every b-th substep, and the last (Σ ⌈gap/2⌉ over the gaps between marks). The marks repeat
+    every lcm(a, b) substeps, so one period is counted and multiplied: no array as long as the
+    run (2·10⁸ substeps would have taken 3 GB)."""
+    period = math.lcm(a, b)
+    if period // a + period // b > 10**6:  # marks too sparse to list: each gap counted as two steps at once
+        return (total + 1) // 2 + total // a + total // b
+
+    def count(end: int) -> int:
+        marks = np.union1d(np.union1d(np.arange(0, end + 1, a), np.arange(0, end + 1, b)), [end])
+        return int(np.sum((np.diff(marks) + 1) // 2))
+
+    full, rest = divmod(total, period)
+    return full * count(period) + (count(rest) if rest else 0)
 
 
 def stability_limit(omega_max: float) -> float:
@@ -129,17 +166,22 @@ def time_grid(
     yielding: bool = False,
     dt_scale: float = 1.0,
     omega_contact_step: float | None = None,
+    fastest_rate: float = 0.0,
 ) -> TimeGrid:
     """Choose the integrator, Δt, the output stride and the step count for an analysis.
     omega_contact: the contacts' upper bound (rad/s, 0 without contact); omega_contact_step:
     the likely fastest contact, which the automatic step follows (default omega_contact);
     yielding: the structure has yielding members. For `pound bench`: dt_fraction replaces the
     automatic rule by dt_fraction · 2/ω_max (structure or contact, the smaller limit);
-    dt_scale scales every automatic step; sampling_scale the hybrid's ω_max·h (hybrid_sampling)."""
+    dt_scale scales every automatic step; sampling_scale the hybrid's ω_max·h (hybrid_sampling).
+    fastest_rate: ρ of the structure, 1/s (System.fastest_rate): where a mode is overdamped
+    its decay outpaces ω_max, and the exact steps are bounded by ρ·h instead, as the solver's
+    crest search needs (solver/peaks.py: crest_series_order sums a series in ρ·h)."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
     omega_step = omega_contact if omega_contact_step is None else omega_contact_step
     step_limit = stability_limit(omega_step) if omega_step > 0 else float("inf")
+    rate = max(omega_max, fastest_rate)
     if analysis.dt != "auto" and float(analysis.dt) >= limit:
         raise InputError(
             f"time step {float(analysis.dt):g} s is at or above the stability limit 2/ω_max = {limit:.4g} s "
@@ -159,35 +201,39 @@ def time_grid(
     duration = analysis.duration if analysis.duration is not None else record_duration
     out = analysis.output_interval
     hybrid = analysis.integrator == "hybrid" or (analysis.integrator == "auto" and record_dt is not None)
+    # every count below comes from whole(): a quotient that overflows (or a step that
+    # underflows) gives MAX_COUNT, refused by the limits, not an OverflowError here
     if hybrid and record_dt is not None:
-        h, stride_h = _substeps(record_dt, out, sampling_scale * hybrid_sampling(yielding) / omega_max)
-        sub = max(1, math.ceil(h / target - 1e-9))
+        h, stride_h = _substeps(record_dt, out, _ratio(sampling_scale * hybrid_sampling(yielding), rate))
+        sub = whole(_ratio(h, target) - 1e-9)
         if omega_contact > 0 and analysis.dt == "auto":  # room for the approach levels (solver.integrate.approach_levels)
             power = 2 ** max(0, int(math.log2(sub / APPROACH_MIN_STEPS)))
             sub = power * math.ceil(sub / power)
         dt = h / sub
         stride = stride_h * sub
         # yielding without contact: the structure's own limit (a given Δt holds everywhere)
-        sub_y = min(sub, max(1, math.ceil(h / (dt_scale * YIELD_DT_FRACTION * limit) - 1e-9))) if auto else sub
+        sub_y = min(sub, whole(_ratio(h, dt_scale * YIELD_DT_FRACTION * limit) - 1e-9)) if auto else sub
     else:
         sub = sub_y = 0
         if analysis.dt == "auto":  # the output interval a whole number of steps
-            stride = max(1, math.ceil(out / target - 1e-9))
-            dt = out / stride
+            stride = whole(_ratio(out, target) - 1e-9)
+            dt = max(out / stride, 5e-324)  # a step that underflows: held at the least float, refused as above
         else:
             dt = target
-            stride = max(1, round(out / dt))
-    n_out = max(1, math.ceil(duration / (stride * dt) - 1e-9))
-    return TimeGrid(dt, stride, n_out * stride, limit, contact_limit, sub, sub_y, step_limit)
+            stride = nearest(_ratio(out, dt))
+    n_out = whole(_ratio(duration, stride * dt) - 1e-9)
+    return TimeGrid(dt, stride, n_out * stride, limit, contact_limit, sub, sub_y, step_limit, rate)
 
 
 def _substeps(record_dt: float, out: float, h_max: float) -> tuple[float, int]:
     """(h, substeps per output) with h = record_dt/m ≤ h_max, and the output interval a whole
     number of substeps when it is commensurate with the record's interval."""
-    m = max(1, math.ceil(record_dt / h_max - 1e-9))
-    ratio = record_dt / out
-    if ratio > 1 and abs(ratio - round(ratio)) < 1e-9:  # several outputs per record sample
+    m = whole(_ratio(record_dt, h_max) - 1e-9)
+    ratio = _ratio(record_dt, out)
+    if ratio >= MAX_COUNT:  # outputs too close to count (5e-324 s): as many substeps as counts hold
+        m = MAX_COUNT
+    elif ratio > 1 and abs(ratio - round(ratio)) < 1e-9:  # several outputs per record sample
         q = round(ratio)
         m = q * math.ceil(m / q)
     h = record_dt / m
-    return h, max(1, round(out / h))
+    return h, nearest(_ratio(out, h))

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import atomic_path
+from ..atomic import atomic_path, hdf5_writer
 from .run import PERTURBATION, SceneReport, on_front
 
 
@@ -106,7 +106,7 @@ def write_hdf5(reports: list[SceneReport], path: Path) -> None:
     table = np.array([tuple(r[name] for name in dtype.names) for r in rows], dtype=dtype)
     from .. import __version__
 
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    with atomic_path(path) as tmp, hdf5_writer(tmp) as f:
         ds = f.create_dataset("bench", data=table)
         ds.attrs["units"] = "-, -, -, -, -, -, -, s, -, -, -, -, -, -, -, -"
         ds.attrs["note"] = ("member_deflection_error and ductility_error: the yielding members' peaks "

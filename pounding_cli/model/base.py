@@ -2,7 +2,9 @@
 
 Unknown keys are errors (``extra="forbid"``), NaN and infinity are rejected, and the
 docstring under each field becomes its JSON-Schema description, which carries the unit.
-Numbers are strict: ``true`` or ``"3.0"`` is not a number (an integer is).
+Every scalar is strict: ``true`` or ``"3.0"`` is not a number (an integer is), ``2.0`` is not
+a whole number, ``0`` or ``"no"`` is not a boolean, ``3`` is not a string
+(tests/test_strict_types.py checks every field of every input file, from the schemas).
 """
 
 from __future__ import annotations
@@ -28,9 +30,16 @@ SampleInterval = Annotated[float, StrictType(), Field(ge=MIN_SAMPLE_INTERVAL, le
 """A record's sample interval, s, between MIN_SAMPLE_INTERVAL and MAX_SAMPLE_INTERVAL."""
 
 Count = Annotated[int, StrictType()]
-"""An integer (booleans and strings are not)."""
+"""An integer (booleans, strings and floats such as 2.0 are not)."""
 
-Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
+Flag = Annotated[bool, StrictType()]
+"""true or false: not 0 or 1, not "no", "yes", "off" or "true" (pydantic's lax bool takes
+them all, and "no" would silently switch a setting off)."""
+
+Text = Annotated[str, StrictType()]
+"""A string (numbers, booleans and bytes are not)."""
+
+Name = Annotated[str, StrictType(), Field(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_.+\-]+$")]
 """A name used in paths and HDF5 groups: letters, digits and _ . + -."""
 
 

@@ -5,11 +5,12 @@ origin, along its own x and y axes (see :attr:`Building.origin` and :attr:`Build
 
 from __future__ import annotations
 
+from collections import Counter
 from typing import Annotated
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from ..limits import MAX_REPEAT, check_repeat
+from ..limits import MAX_COLUMNS, MAX_REPEAT, check_columns, check_repeat, max_storeys
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
 from .slab import SlabPolygon
@@ -92,8 +93,13 @@ class ColumnGrid(Strict):
         """Names of all crossings in the paper's order (y first, then x), before `omit`."""
         return [f"{self.prefix}{i + 1}" for i in range(len(self.x) * len(self.y))]
 
+    def count(self) -> int:
+        """How many columns the grid generates (its crossings less the omitted)."""
+        return len(self.x) * len(self.y) - len(set(self.omit))
+
     @model_validator(mode="after")
     def _known_names(self) -> "ColumnGrid":
+        check_columns(len(self.x) * len(self.y), "columns on one grid")  # before any name is generated
         names = set(self.generated_names())
         for field, given in (("sections", self.sections), ("omit", self.omit)):
             unknown = [n for n in given if n not in names]
@@ -107,10 +113,11 @@ class ColumnGrid(Strict):
     def columns(self) -> list[Column]:
         """The generated columns, in the paper's numbering."""
         out = []
+        omit = set(self.omit)
         for i, x in enumerate(self.x):
             for j, y in enumerate(self.y):
                 name = f"{self.prefix}{i * len(self.y) + j + 1}"
-                if name in self.omit:
+                if name in omit:
                     continue
                 out.append(
                     Column(
@@ -154,7 +161,7 @@ class Floor(Strict):
     Default: that of a uniform slab of the floor's mass, m·(I_x + I_y)/A about the slab
     centroid, whatever the eccentricity (the accidental-eccentricity convention)."""
 
-    columns: list[Column] = []
+    columns: Annotated[list[Column], Field(max_length=MAX_COLUMNS)] = []
     """Columns of the storey below this floor, given one by one."""
 
     column_grid: ColumnGrid | None = None
@@ -195,8 +202,9 @@ class Floor(Strict):
             raise ValueError(
                 "the storey below this floor has no columns: give 'columns' or 'column_grid'"
             )
+        check_columns(self.column_count())  # before the grid's columns are generated
         names = [c.name for c in self.all_columns()]
-        dup = sorted({n for n in names if names.count(n) > 1})
+        dup = sorted(n for n, k in Counter(names).items() if k > 1)
         if dup:
             raise ValueError(f"column names repeat within the storey: {', '.join(dup)}")
         self._columns_under_slab()
@@ -212,6 +220,10 @@ class Floor(Strict):
                 raise ValueError(
                     f"column {c.name} at ({c.x:g}, {c.y:g}) m is outside the slab it carries"
                 )
+
+    def column_count(self) -> int:
+        """Columns of the storey, counted without generating the grid's."""
+        return len(self.columns) + (self.column_grid.count() if self.column_grid is not None else 0)
 
     def all_columns(self) -> list[Column]:
         """Grid-generated columns followed by the ones given one by one."""
@@ -259,6 +271,16 @@ class Building(Strict):
 
     floors: Annotated[list[Floor], Field(min_length=1)]
     """Floors from the lowest up; each carries the storey of columns beneath it."""
+
+    @field_validator("floors", mode="before")
+    @classmethod
+    def _entries_within_limit(cls, value: object) -> object:
+        """More floor entries than the storey limit are refused before each is checked (each
+        takes about a millisecond: a 50 MB file of them would take minutes)."""
+        if isinstance(value, list) and len(value) > max_storeys():
+            raise ValueError(f"{len(value)} floor entries: more than the limit of {max_storeys():.0f} storeys "
+                             "(POUND_MAX_STOREYS)")  # fmt: skip
+        return value
 
     damping: RayleighDamping = RayleighDamping()
     """Rayleigh damping of this building (of a base-isolated building: of its superstructure,

@@ -11,9 +11,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, PlainValidator, ValidationInfo, WithJsonSchema, field_validator, model_validator
+from pydantic import Discriminator, Field, PlainValidator, Tag, ValidationInfo, WithJsonSchema, field_validator, model_validator
 
-from .base import Name, Real, Strict
+from .base import Flag, Name, Real, Strict
 from .slab import Outline, convex_polygon
 
 
@@ -35,7 +35,7 @@ StiffnessOrAuto = Annotated[
 class Contact(Strict):
     """How floors at one level (and floors and obstacles) interact when they overlap."""
 
-    enabled: bool = True
+    enabled: Flag = True
     """Detect and model pounding. false: the buildings pass through each other (the paper's
     "d = ∞" cases)."""
 
@@ -149,7 +149,12 @@ class Obstacle(ImpactOverrides):
     polygon: Outline
     """Outline: a convex polygon [[X, Y], ...] in global coordinates, m, either orientation."""
 
-    elevation: Real | tuple[Real, Real]
+    elevation: Annotated[
+        Annotated[Real, Tag("level")] | Annotated[tuple[Real, Real], Tag("range")],
+        Discriminator(lambda v: "range" if isinstance(v, (list, tuple)) else "level"),
+        WithJsonSchema({"anyOf": [{"type": "number"}, {"type": "array", "maxItems": 2, "minItems": 2,
+                                                       "prefixItems": [{"type": "number"}, {"type": "number"}]}]}),
+    ]
     """Level of the obstacle above the ground, m: one elevation, or [bottom, top] to meet
     every floor whose elevation lies in that range."""
 

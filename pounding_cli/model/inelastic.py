@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import Counter
 from dataclasses import dataclass
 from typing import Annotated, Callable, Literal
 
 from pydantic import Field, model_validator
 
+from ..limits import MAX_COLUMNS, check_columns
 from .base import Name, Positive, Real, Strict
 from .contact import ImpactOverrides
 from .slab import SlabPolygon
@@ -255,7 +257,7 @@ class Isolation(Strict):
     """Mass moment of inertia of the base slab about its mass centre, kg·m²; default: a
     uniform slab's."""
 
-    isolators: list[Isolator] = []
+    isolators: Annotated[list[Isolator], Field(max_length=MAX_COLUMNS)] = []
     """Isolators given one by one."""
 
     isolator_grid: IsolatorGrid | None = None
@@ -275,10 +277,13 @@ class Isolation(Strict):
     def _mass_and_isolators(self) -> "Isolation":
         if (self.mass is None) == (self.mass_per_area is None):
             raise ValueError("give exactly one of 'mass' (kg) or 'mass_per_area' (kg/m²)")
+        grid = self.isolator_grid
+        check_columns(len(self.isolators) + (len(grid.x) * len(grid.y) if grid is not None else 0),
+                      "isolators under one base slab")  # before the grid's isolators are generated
         names = [i.name for i in self.all_isolators()]
         if not names:
             raise ValueError("the base slab stands on no isolators: give 'isolators' or 'isolator_grid'")
-        dup = sorted({n for n in names if names.count(n) > 1})
+        dup = sorted(n for n, k in Counter(names).items() if k > 1)
         if dup:
             raise ValueError(f"isolator names repeat: {', '.join(dup)}")
         import shapely

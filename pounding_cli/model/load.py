@@ -19,6 +19,7 @@ from typing import Any, Callable, TypeVar
 from pydantic import BaseModel, ValidationError
 
 from ..errors import InputError
+from ..files import FileRefused, read_regular, resolve_in
 from .root import PoundModel
 
 M = TypeVar("M", bound=BaseModel)
@@ -43,51 +44,127 @@ class LoadedModel:
     def resolve(self, relative: str) -> Path:
         """A path named in the model (relative to the model file, or absolute), resolved
         against the model file's folder, never against the current directory."""
-        return (self.folder / relative).resolve()
+        return resolve_in(self.folder, relative)
 
 
 def read_document(path: str | Path) -> dict[str, Any]:
-    """Parse a TOML or JSON file into a dict, with errors that name the file and line."""
+    """Parse a TOML or JSON file into a dict, with errors that name the file and the line or
+    field. Only a regular file is read, and at most MAX_MODEL_BYTES + 1 bytes of it (files.py);
+    a UTF-8 byte-order mark is dropped; a key given twice in one JSON object is refused, as
+    TOML refuses it; a whole number of more digits than Python converts is refused naming
+    its field."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError("is a directory, expected a .toml or .json model file", file=path)
     try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError("no such file", file=path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, expected a .toml or .json model file", file=path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read the file ({exc.strerror})", file=path) from None
-    if len(raw) > MAX_MODEL_BYTES:
-        raise InputError(f"file is {len(raw)} bytes; a model file is limited to {MAX_MODEL_BYTES}", file=path)
+        raw = read_regular(path, MAX_MODEL_BYTES)
+    except FileRefused as exc:
+        raise InputError(exc.reason, file=path) from None
+    suffix = path.suffix.lower()
+    if suffix not in (".json", ".toml"):
+        raise InputError(f"unknown file type {path.suffix!r}: expected a .toml or .json file", file=path)
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise InputError(f"line {line}: not UTF-8 text; save the file as UTF-8", file=path) from None
-    suffix = path.suffix.lower()
-    if suffix == ".json":
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}", file=path) from None
-        except RecursionError:
-            raise InputError("invalid JSON: nested too deeply", file=path) from None
-        except ValueError as exc:  # an integer of more than sys.get_int_max_str_digits() digits
-            raise InputError(f"invalid JSON: {exc}", file=path) from None
-    elif suffix == ".toml":
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(toml_problem(str(exc), text), file=path) from None
-        except RecursionError:
-            raise InputError("invalid TOML: nested too deeply", file=path) from None
-        except ValueError as exc:  # an integer of more than sys.get_int_max_str_digits() digits
-            raise InputError(f"invalid TOML: {exc}", file=path) from None
-    else:
-        raise InputError(f"unknown file type {path.suffix!r}: expected a .toml or .json file", file=path)
+    data = _parse_json(text, path) if suffix == ".json" else _parse_toml(text, path)
     if not isinstance(data, dict):
         raise InputError(f"expected a table of settings at the top, got a {type(data).__name__}", file=path)
+    _refuse_markers(data, path)
     return data
+
+
+MAX_DIGITS = 4300
+"""Most digits of a whole number in an input file: Python's own limit on converting digits
+to an integer (sys.get_int_max_str_digits), which guards against its quadratic cost. Every
+number pound takes is below 1e308, a number of 309 digits."""
+
+
+class _TooManyDigits:
+    """What the parsers give for a whole number of more than MAX_DIGITS digits: a marker that
+    _refuse_markers finds, so that the message names its field."""
+
+    def __init__(self, text: str):
+        self.digits = sum(c.isdigit() for c in text)
+
+
+class _RepeatedKeys(dict):  # type: ignore[type-arg]
+    """A JSON object in which a key appears twice: the keys, for _refuse_markers."""
+
+    repeated: list[str]
+
+
+def _json_object(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """object_pairs_hook: the object as a dict, or a _RepeatedKeys naming the repeated keys
+    (JSON allows them, and the last would silently win)."""
+    out = dict(pairs)
+    if len(out) == len(pairs):
+        return out
+    seen: set[str] = set()
+    marked = _RepeatedKeys(out)
+    marked.repeated = [k for k, _ in pairs if k in seen or seen.add(k)]  # type: ignore[func-returns-value]
+    return marked
+
+
+def _json_int(text: str) -> int | _TooManyDigits:
+    return int(text) if len(text) <= MAX_DIGITS else _TooManyDigits(text)
+
+
+def _parse_json(text: str, path: Path) -> Any:
+    try:
+        return json.loads(text, object_pairs_hook=_json_object, parse_int=_json_int)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}", file=path) from None
+    except RecursionError:
+        raise InputError("invalid JSON: nested too deeply", file=path) from None
+
+
+LONG_INTEGER = re.compile(r"(?<![\w.])([+-]?[0-9][0-9_]{%d,})(?![\w.])" % MAX_DIGITS)
+
+
+def _toml_float(text: str) -> float | _TooManyDigits:
+    digits = text.removesuffix(".0")  # as LONG_INTEGER wrote a whole number
+    return _TooManyDigits(digits) if sum(c.isdigit() for c in digits) > MAX_DIGITS else float(text)
+
+
+def _parse_toml(text: str, path: Path) -> Any:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(toml_problem(str(exc), text), file=path) from None
+    except RecursionError:
+        raise InputError("invalid TOML: nested too deeply", file=path) from None
+    except ValueError:  # a whole number of more than MAX_DIGITS digits (int() refuses it)
+        pass
+    # read again with each over-long whole number written as a float, which tomllib hands to
+    # parse_float: the marker it returns names the field (_refuse_markers)
+    try:
+        return tomllib.loads(LONG_INTEGER.sub(r"\1.0", text), parse_float=_toml_float)
+    except (tomllib.TOMLDecodeError, ValueError):
+        found = LONG_INTEGER.search(text)
+        line = f"line {text.count(chr(10), 0, found.start()) + 1}: " if found else ""
+        raise InputError(f"{line}a whole number of more than {MAX_DIGITS} digits; {_DIGITS_ADVICE}", file=path) from None
+
+
+_DIGITS_ADVICE = "every number pound takes is below 1e308: write a large value with an exponent (e.g. 1e30)"
+
+
+def _refuse_markers(data: Any, path: Path) -> None:
+    """InputError naming the field of the first repeated JSON key or over-long whole number
+    (depth first, in the file's order; iterative, as a document may be nested deeply)."""
+    stack: list[tuple[tuple[Any, ...], Any]] = [((), data)]
+    while stack:
+        loc, node = stack.pop()
+        if isinstance(node, _TooManyDigits):
+            raise InputError(f"a whole number of {node.digits} digits, more than the {MAX_DIGITS} an input may "
+                             f"hold; {_DIGITS_ADVICE}", file=path, field=format_loc(loc))  # fmt: skip
+        if isinstance(node, _RepeatedKeys):
+            keys = ", ".join(repr(k) for k in dict.fromkeys(node.repeated))
+            raise InputError(f"the key {keys} appears twice in one object; give each key once (JSON would "
+                             "silently keep the last)", file=path, field=format_loc(loc))  # fmt: skip
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+        stack.extend(((*loc, key), value) for key, value in reversed(list(items)))
 
 
 def document_kind(data: dict[str, Any]) -> str:
@@ -217,9 +294,16 @@ def describe_error(source: Path, error: dict[str, Any], root: type[BaseModel], *
     return f"{source}: {where(loc)}: {text}"
 
 
+UNION_TAGS = {("elevation", "level"), ("elevation", "range")}
+"""(field, tag) of the model's tagged unions: pydantic puts the tag of the branch it tried
+into the error's location (obstacles[0].elevation.range[0]); messages leave it out."""
+
+
 def _describe(source: Path, error: dict[str, Any]) -> str:
-    """A model file's error (describe_error)."""
-    return describe_error(source, error, PoundModel)
+    """A model file's error (describe_error), located without the tags of tagged unions."""
+    loc = tuple(error["loc"])
+    plain = tuple(p for i, p in enumerate(loc) if not (i and (loc[i - 1], p) in UNION_TAGS))
+    return describe_error(source, {**error, "loc": plain}, PoundModel)
 
 
 def _description(root: type[BaseModel], loc: tuple[Any, ...]) -> str:

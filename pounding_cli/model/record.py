@@ -21,12 +21,9 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, WithJsonSchema, model_validator
 from pydantic import Strict as StrictType
 
-from .base import Positive, Real, SampleInterval, Strict
+from .base import Flag, Positive, Real, SampleInterval, Strict
 
 Units = Literal["g", "m/s2", "cm/s2", "gal"]
-
-Flag = Annotated[bool, StrictType()]
-"""true or false (not 1, not "yes")."""
 
 Azimuth = Annotated[Real, Field(ge=0.0, le=360.0)]
 """Degrees clockwise from north, 0 to 360 (360 is north, as COSMOS headers write it)."""
@@ -42,15 +39,17 @@ def _date_as_text(value: object) -> object:
 
 TraceName = Annotated[
     str,
+    StrictType(),
     Field(min_length=1, max_length=64),
     BeforeValidator(_index_as_text),
     WithJsonSchema({"anyOf": [{"type": "string", "minLength": 1, "maxLength": 64}, {"type": "integer", "minimum": 0}]}),
 ]
 
-Text = Annotated[str, Field(max_length=2000)]
+Text = Annotated[str, StrictType(), Field(max_length=2000)]
 
 DateText = Annotated[
     str,
+    StrictType(),
     Field(max_length=64),
     BeforeValidator(_date_as_text),
     WithJsonSchema({"type": "string", "maxLength": 64}),
@@ -60,7 +59,7 @@ DateText = Annotated[
 class RecordComponent(Strict):
     """One horizontal component of a ground-motion record."""
 
-    file: Annotated[str, Field(min_length=1)]
+    file: Annotated[str, StrictType(), Field(min_length=1)]
     """Path of the record file, relative to the file that defines the record (the model
     file, or the record definition file). Any format obspy reads (MiniSEED, SAC, K-NET, …),
     PEER NGA .AT2, CSMIP/COSMOS V1/V2 text, or plain text (one value per line with `dt`, or
@@ -74,7 +73,7 @@ class RecordComponent(Strict):
     """Units of the values in the file: "g", "m/s2", "cm/s2" or "gal". Files that declare
     their units (AT2, COSMOS) are converted by their reader: write their own units or "m/s2"."""
 
-    format: str = "auto"
+    format: Annotated[str, StrictType()] = "auto"
     """File format: "auto" (obspy detects it, plain text as the fallback), "text", or an
     obspy format name such as "MSEED", "SAC", "AT2" or "COSMOS"."""
 
@@ -271,6 +270,7 @@ def check_record_path(value: Any) -> Any:
 
 RecordPath = Annotated[
     str,
+    StrictType(),
     BeforeValidator(check_record_path),
     WithJsonSchema({"type": "string", "pattern": r"\.([Tt][Oo][Mm][Ll]|[Jj][Ss][Oo][Nn])$"}),
 ]

@@ -7,8 +7,7 @@ from typing import Annotated
 from pydantic import Field
 
 from .analysis import Analysis
-from .base import Strict
-from .base import Name
+from .base import Name, Strict, Text
 from .building import Building
 from .contact import Contact, Obstacle
 from .excitation import Excitation
@@ -19,7 +18,7 @@ from .material import Material
 class PoundModel(Strict):
     """A pound model: materials, buildings, excitation and analysis settings (SI units)."""
 
-    title: str = ""
+    title: Text = ""
     """A one-line description of the model, printed by validate and stored with the results."""
 
     materials: Annotated[dict[Name, Material], Field(min_length=1)]

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
+from pydantic import Strict as StrictType
 from pydantic import (
     BaseModel, BeforeValidator, Discriminator, Field, JsonValue, PlainValidator, Tag, WithJsonSchema, model_validator,
 )  # fmt: skip
@@ -120,7 +121,7 @@ def _check_path(value: Any) -> Any:
     return value
 
 
-PathKey = Annotated[str, Field(max_length=500), BeforeValidator(_check_path)]
+PathKey = Annotated[str, StrictType(), Field(max_length=500), BeforeValidator(_check_path)]
 """A dotted path into the model document, e.g. "buildings.left.floors[*].eccentricity"."""
 
 
@@ -152,7 +153,13 @@ def _number(value: Any) -> int | float:
         raise ValueError(f"expected a number; got {value!r:.80}")
     if isinstance(value, float) and not math.isfinite(value):
         raise ValueError(f"expected a finite number; got {value}")
+    if isinstance(value, int) and abs(value) > MAX_FLOAT:  # it could not become a model's number
+        raise ValueError(f"expected a number below 1.8e308 in magnitude; got a whole number of {len(str(abs(value)))} digits")
     return value
+
+
+MAX_FLOAT = 1.7976931348623157e308
+"""The largest float: a sweep's numbers become the model's, which are floats."""
 
 
 Number = Annotated[int | float, PlainValidator(_number), WithJsonSchema({"type": "number"})]
@@ -180,11 +187,12 @@ class Range(Strict):
     def _finite_count(self) -> "Range":
         if self.step == 0:
             raise ValueError("step is 0: give a step towards stop")
-        span = (self.stop - self.start) / self.step
+        span = (float(self.stop) - float(self.start)) / float(self.step)  # inf for 1e308 - (-1e308)
         if span < -1e-9:
             raise ValueError(f"step {self.step:g} goes away from stop {self.stop:g} (start {self.start:g})")
-        if span > MAX_CASES:
-            raise ValueError(f"{math.floor(span) + 1} values; a parameter takes at most {MAX_CASES}")
+        if not span <= MAX_CASES:
+            count = f"{math.floor(span) + 1}" if math.isfinite(span) else "more than 1e308"
+            raise ValueError(f"{count} values; a parameter takes at most {MAX_CASES}")
         return self
 
     def values(self) -> list[float | int]:
@@ -238,7 +246,7 @@ ParameterValues = Annotated[
     ),
 ]
 
-CaseName = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[^/\x00-\x1f\x7f]+$")]
+CaseName = Annotated[str, StrictType(), Field(min_length=1, max_length=200, pattern=r"^[^/\x00-\x1f\x7f]+$")]
 """A case's name: any text without '/' or control characters."""
 
 Overrides = dict[PathKey, Value]
@@ -252,7 +260,7 @@ def values_of(spec: list[Any] | Range | Linspace) -> list[Any]:
 class Study(Strict):
     """One study: its named cases × the combinations of its parameters (either alone works)."""
 
-    description: Annotated[str, Field(max_length=2000)] = ""
+    description: Annotated[str, StrictType(), Field(max_length=2000)] = ""
     """What the study is about (free text, kept in the summary's attributes)."""
 
     mode: Literal["grid", "zip"] = "grid"
@@ -294,13 +302,13 @@ class SummarySettings(Strict):
     (over all its columns and storeys) is in the summary regardless."""
 
 
-ModelFile = Annotated[str, Field(min_length=1, max_length=4096, pattern=r"(?i)\.(toml|json)$")]
+ModelFile = Annotated[str, StrictType(), Field(min_length=1, max_length=4096, pattern=r"(?i)\.(toml|json)$")]
 
 
 class SweepFile(Strict):
     """A sweep: a base model, and the settings that vary, as one study or several."""
 
-    title: Annotated[str, Field(max_length=2000)] = ""
+    title: Annotated[str, StrictType(), Field(max_length=2000)] = ""
     """A one-line description of the sweep, kept in the summary."""
 
     base: ModelFile

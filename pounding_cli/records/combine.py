@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding_cli.errors import InputError, RecordReadError
+from pounding_cli.files import MAX_RECORD_BYTES, FileRefused, read_regular, resolve_in
 from pounding_cli.model.record import Record, RecordComponent
 from pounding_cli.records.process import ProcessingError, process
 from pounding_cli.records.read import UNIT_FACTORS, Accelerogram, read_accelerogram
@@ -67,7 +68,7 @@ class RecordOrigin:
 
     def resolve(self, relative: str) -> Path:
         """A component's file, relative to the file that defines the record."""
-        return (self.folder / relative).resolve()
+        return resolve_in(self.folder, relative)
 
 
 @dataclass(frozen=True)
@@ -120,7 +121,9 @@ def _read_component(name: str, spec: RecordComponent, origin: RecordOrigin) -> t
     path = origin.resolve(spec.file)
     try:
         record = read_accelerogram(path, trace=spec.trace, units=spec.units, format=spec.format, dt=spec.dt)
-        digest = hashlib.sha256(path.read_bytes()).hexdigest()
+        digest = hashlib.sha256(read_regular(path, MAX_RECORD_BYTES)).hexdigest()
+    except FileRefused as exc:
+        raise origin.error(f"{name}.file", f"{path}: {exc.reason}") from None
     except RecordReadError as exc:
         raise origin.error(f"{name}.{exc.field}", str(exc)) from None
     return record, digest

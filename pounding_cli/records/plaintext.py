@@ -6,8 +6,10 @@ Format accepted by :func:`parse_plaintext`:
   must be given by the caller, since the file does not hold it;
 - two columns: ``time value`` per line (time in s), separated by whitespace, a
   comma or a semicolon. Times must increase strictly and be uniformly spaced to
-  within :data:`REL_TOL` of the step (non-uniform records must be resampled
-  first); ``dt`` is the median step;
+  within :data:`REL_TOL` of the step, plus the rounding of the times themselves
+  (epoch times of 1.7e9 s are resolved to 2.4e-7 s; non-uniform records must be
+  resampled first); ``dt`` is the mean step, (last time − first time)/(samples − 1), which
+  averages the rounding out;
 - blank lines and lines starting with ``#`` or ``%`` are ignored, and so is a
   first non-numeric line (a column header such as ``time, acc``).
 
@@ -24,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding_cli.errors import RecordReadError
+from pounding_cli.files import MAX_RECORD_BYTES, FileRefused, read_regular
 
 REL_TOL = 1e-6
 """Relative tolerance on the time step: uniform spacing, and agreement with a given ``dt``."""
@@ -43,7 +46,10 @@ class NotPlainText(RecordReadError):
 
 def decode_text(path: Path) -> str:
     """Return the file's content as text, or raise :class:`NotPlainText` for binary data."""
-    raw = path.read_bytes()
+    try:
+        raw = read_regular(path, MAX_RECORD_BYTES)
+    except FileRefused as exc:
+        raise RecordReadError(f"{path}: {exc.reason}") from None
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as err:
@@ -152,15 +158,19 @@ def _dt_from_times(
             f"{name}: line {line_numbers[i]}: time {times[i]:g} s does not follow "
             f"{times[i - 1]:g} s (line {line_numbers[i - 1]}); times must increase strictly"
         )
-    step = float(np.median(steps))
-    uneven = np.flatnonzero(np.abs(steps - step) > REL_TOL * step)
+    # each time is the file's decimal rounded to the nearest float: its spacing at the largest
+    # time (2.4e-7 s at an epoch time of 1.7e9 s) is allowed on every step, as REL_TOL is
+    resolution = 2.0 * float(np.spacing(np.max(np.abs(times))))
+    median = float(np.median(steps))
+    uneven = np.flatnonzero(np.abs(steps - median) > REL_TOL * median + resolution)
     if uneven.size:
         i = int(uneven[0]) + 1
         raise RecordReadError(
             f"{name}: line {line_numbers[i]}: time step {steps[i - 1]:.9g} s differs from the "
-            f"median step {step:.9g} s; the record is not uniformly sampled "
+            f"median step {median:.9g} s; the record is not uniformly sampled "
             "(non-uniform records must be resampled to a constant step first)"
         )
+    step = float((times[-1] - times[0]) / (times.size - 1))  # the rounding of each time averaged out
     if dt is None:
         return step
     if abs(dt - step) > REL_TOL * step:

@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pounding_cli.errors import RecordReadError
+from pounding_cli.files import MAX_RECORD_BYTES, FileRefused, check_regular, read_start
 from pounding_cli.model.base import MAX_SAMPLE_INTERVAL, MIN_SAMPLE_INTERVAL
 from pounding_cli.records.plaintext import REL_TOL, NotPlainText, decode_text, parse_plaintext
 
@@ -218,16 +219,16 @@ def _check_dt_argument(dt: float | None) -> None:
 
 
 def _check_file(path: Path) -> None:
-    """Raise unless ``path`` is an existing, non-empty regular file."""
+    """Raise unless ``path`` is an existing, non-empty regular file of at most
+    MAX_RECORD_BYTES (a FIFO or a device is refused before anything reads it)."""
+    if path.is_dir():
+        raise RecordReadError(f"{path}: is a directory, not a record file")
     try:
-        if not path.exists():
-            raise RecordReadError(f"{path}: no such file")
-        if path.is_dir():
-            raise RecordReadError(f"{path}: is a directory, not a record file")
-        if path.stat().st_size == 0:
-            raise RecordReadError(f"{path}: empty file")
-    except OSError as err:
-        raise RecordReadError(f"{path}: cannot access the file ({err.strerror or err})") from err
+        size = check_regular(path, MAX_RECORD_BYTES)
+    except FileRefused as err:
+        raise RecordReadError(f"{path}: {err.reason}") from None
+    if size == 0:
+        raise RecordReadError(f"{path}: empty file")
 
 
 def _decode(path: Path) -> str:
@@ -308,8 +309,10 @@ def _cheap_guess(path: Path) -> str | None:
         return "AT2"
     if _is_cosmos(str(path)):
         return "COSMOS"
-    with path.open("rb") as handle:
-        head = handle.read(8)
+    try:
+        head = read_start(path, 8)
+    except FileRefused:
+        return None
     # a MiniSEED record starts with a 6-digit sequence number and a quality code
     if len(head) == 8 and head[:6].strip(b" 0123456789") == b"" and head[6:7] in b"DRQM" and head[7:8] in b" \x00":
         return "MSEED"
@@ -322,8 +325,10 @@ def _refuse_pickle(path: Path, format: str) -> None:
     obspy's format detection unpickles any file whose first 100 bytes name
     ``obspy.core.stream``, so such files are stopped before ``obspy.read``.
     """
-    with path.open("rb") as handle:
-        looks_pickled = b"obspy.core.stream" in handle.read(100)
+    try:
+        looks_pickled = b"obspy.core.stream" in read_start(path, 100)
+    except FileRefused as err:
+        raise RecordReadError(f"{path}: {err.reason}") from None
     if format.upper() == "PICKLE" or looks_pickled:
         raise RecordReadError(
             f"{path}: pickled obspy streams are not read (unpickling a file can run "
@@ -352,7 +357,7 @@ def _match_trace_id(stream: Stream, ids: list[str], trace: str, path: Path) -> s
     """Return the trace id that ``trace`` names: a SEED id, an index or a channel code."""
     if "." in trace:
         matches = [trace] if trace in ids else []
-    elif trace.isdigit():
+    elif trace.isascii() and trace.isdecimal():
         index = int(trace)
         matches = [stream[index].id] if index < len(stream) else []
     else:

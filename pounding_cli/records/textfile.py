@@ -8,6 +8,8 @@ import re
 from pathlib import PurePath
 from typing import Any
 
+from ..files import MAX_RECORD_BYTES, FileRefused, read_regular, read_start
+
 BINARY = re.compile(r"[\x00-\x08\x0e-\x1f\x7f]")  # control characters other than \t \n \v \f \r
 
 
@@ -32,8 +34,10 @@ def decode(raw: bytes | str) -> str:
 def read_head(source: Any, size: int) -> str | None:
     """The first ``size`` bytes as text, restoring a file object's position; None if unreadable."""
     if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            return decode(handle.read(size))
+        try:
+            return decode(read_start(source, size))
+        except FileRefused:
+            return None
     if not (hasattr(source, "read") and hasattr(source, "seek") and hasattr(source, "tell")):
         return None
     position = source.tell()
@@ -46,8 +50,10 @@ def read_head(source: Any, size: int) -> str | None:
 def read_all(source: Any, name: str, kind: str) -> str:
     """The whole file (path or file object, read from its current position) as text."""
     if isinstance(source, (str, PurePath)):
-        with open(source, "rb") as handle:
-            raw = handle.read()
+        try:
+            raw = read_regular(source, MAX_RECORD_BYTES)
+        except FileRefused as exc:
+            raise ValueError(f"{name}: {exc.reason}") from None
     elif hasattr(source, "read"):
         raw = source.read()
     else:

@@ -16,7 +16,8 @@ from typing import Any
 import h5py
 import numpy as np
 
-from ..atomic import atomic_path
+from ..atomic import atomic_path, hdf5_writer
+from ..interrupts import checkpoint, results_written
 from .result import (
     ENERGY_NAMES,
     EVENT_DTYPE,
@@ -73,8 +74,8 @@ def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path. A file that cannot be
     written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
-    with atomic_path(path) as tmp:
-        with h5py.File(tmp, "w", track_order=True) as f:
+    with atomic_path(path, committed=results_written) as tmp:
+        with hdf5_writer(tmp, track_order=True) as f:
             _write(f, result)
     result.output = path
     return path
@@ -93,8 +94,10 @@ def _write(f: h5py.File, r: RunResult) -> None:
     _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", columns="X, Y", axes="global")
     buildings = f.create_group("buildings", track_order=True)
     for name, b in r.buildings.items():
+        checkpoint()  # a SIGTERM meanwhile abandons the file here (atomic_path removes it)
         _write_building(buildings.create_group(name), b)
     _pause_for_tests()
+    checkpoint()
     _write_contact(f.create_group("impacts"), r.contact)
     _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
     diag = f.create_group("diagnostics")
@@ -110,7 +113,10 @@ def _pause_for_tests() -> None:
     if spec:
         marker, _, seconds = spec.rpartition(":")
         Path(marker).touch()
-        time.sleep(float(seconds))
+        until = time.monotonic() + float(seconds)
+        while time.monotonic() < until:  # a signal meanwhile is acted on within 50 ms
+            time.sleep(0.05)
+            checkpoint()
 
 
 def _write_contact(g: h5py.Group, c: ContactResult) -> None:

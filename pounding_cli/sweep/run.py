@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
-from ..errors import InputError
+from ..errors import InputError, WriteError
 from ..interrupts import stop_if_requested
 from ..model.sweep import LoadedSweep, load_sweep
 from .plan import Plan, plan_sweep
@@ -90,6 +90,7 @@ def run_sweep(
     on_row: Callable[[Row], None] | None = None,
     on_progress: Callable[[str, int, int, int], None] | None = None,
     log: Callable[[str], None] | None = None,
+    force: bool = False,
 ) -> SweepOutcome:
     """Run a sweep into `output` (default: :func:`default_output`) and rebuild its summary.
 
@@ -98,7 +99,10 @@ def run_sweep(
     checked and listed). `dry_run` checks and lists without running or writing anything.
     `on_row(row)` is called with each selected case's summary row once it is known (cases
     already complete first); `on_progress(stage, done, failed, total)` as work finishes,
-    stage "check" or "run"; `log(text)` with what the sweep is doing."""
+    stage "check" or "run"; `log(text)` with what the sweep is doing. The output folder must
+    be new, empty or a sweep's (OutputFolder.check_owner) unless `force`, which is logged; a
+    file the sweep writes there must not be one of its inputs (the sweep file, the base
+    model, its record files)."""
     t0 = time.perf_counter()
     say = log or (lambda text: None)
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
@@ -109,6 +113,10 @@ def run_sweep(
         loaded = LoadedSweep(loaded.sweep, loaded.source.absolute())
         folder = folder.absolute()
     folder = OutputFolder(folder)
+    if not dry_run:
+        note = folder.check_owner(force)  # before anything is checked or written
+        if note:
+            say(note)
     with _executor(jobs, scheduler, scheduler_file, client) as executor:
         say(f"checking the cases of {loaded.source} on {executor.description}")
         checked = (lambda done, total: on_progress("check", done, 0, total)) if on_progress else None
@@ -117,6 +125,7 @@ def run_sweep(
         if dry_run:
             rows = summary_rows(folder, plan.manifest())  # reads the folder, writes nothing
             return SweepOutcome(folder.root, rows, selected=selected, wall_time_s=time.perf_counter() - t0)
+        _refuse_inputs(folder, loaded, plan)
         folder.prepare()
         with folder.locked():
             if removed := folder.remove_stale_temporaries():
@@ -174,6 +183,8 @@ def _run(
     for finished, (h, ok, value) in enumerate(executor.run(tasks), start=1):
         stop_if_requested()
         outcome.ran += 1
+        if ok and isinstance(value, dict) and value.get("write_error"):  # a full disk: no case can be written
+            raise WriteError(value["write_error"])
         if not ok:  # the worker died, or the cluster gave up on the task
             write_failure(folder.failure_file(h), plan.cases[by_hash[h][0]].input_sha256, f"failed: {value}")
         row_status = _report(h, by_hash, manifest_cases, columns, folder, on_row)
@@ -192,6 +203,28 @@ def _report(
         for i in by_hash[h]:
             on_row(make_row(cases[i], found, columns))
     return found["status"]
+
+
+def _refuse_inputs(folder: OutputFolder, loaded: LoadedSweep, plan: Plan) -> None:
+    """InputError if a file the sweep writes at the top of its folder is one of its inputs:
+    the sweep file, the base model, the base's record definition and record files."""
+    from ..assembly.ground import resolve_record
+    from ..model import load_model
+    from ..outputs import refuse_inputs
+    from .store import WRITES
+
+    inputs = [(Path(loaded.source), "the file of this sweep"), (Path(plan.base), "the base model of this sweep")]
+    try:
+        base = load_model(plan.base)
+        record, origin, record_file = resolve_record(base)
+    except InputError:
+        pass  # the cases were checked; a base that does not load alone has no files of its own
+    else:
+        inputs += [(Path(record_file), "the base's record definition")] if record_file is not None else []
+        inputs += [(origin.resolve(c.file), f"the base's record file of component {name}")
+                   for name, c in record.components().items()]  # fmt: skip
+    for name in WRITES:
+        refuse_inputs(folder.root / name, inputs, "another output folder (-o)")
 
 
 def _check_studies(loaded: LoadedSweep, studies: list[str] | None) -> None:

@@ -6,6 +6,12 @@ lock that keeps two sweeps from writing into one folder.
     DIR/cases/<hash>.h5          one case's results, exactly as `pound run` writes them
     DIR/cases/<hash>.failed.json a case that could not run: its message (no .h5 then)
     DIR/.lock                    held while a sweep writes here
+    DIR/.pound-sweep             the marker: this folder is a sweep's (JSON: who made it, when)
+
+A sweep writes only into a folder that is new, empty, or marked as a sweep's (check_owner):
+anything else may hold the user's own files of those names, and needs --force, which the
+sweep reports. A folder of an earlier release's sweep (no marker, but a sweep.json that is a
+pound manifest) is taken as a sweep's, and marked.
 
 A case file is written under a temporary name and renamed when complete, so a file named
 ``<hash>.h5`` is never half-written; its ``input_sha256`` attribute must equal the case's
@@ -28,6 +34,9 @@ from ..errors import InputError
 CASES = "cases"
 MANIFEST = "sweep.json"
 LOCK = ".lock"
+MARKER = ".pound-sweep"
+WRITES = (MANIFEST, "summary.h5", "summary.csv", CASES, LOCK, MARKER)
+"""What a sweep writes at the top of its folder."""
 
 COMPLETE, PENDING = "complete", "pending"
 
@@ -87,14 +96,57 @@ class OutputFolder:
                 pass
         return CaseState(PENDING, False)
 
+    def check_owner(self, force: bool = False) -> str | None:
+        """Refuse a folder that holds files a sweep did not write, unless `force` (then a note
+        for the user is returned); None for a new or empty folder or a sweep's."""
+        if not self.root.exists():
+            return None
+        if not self.root.is_dir():
+            raise InputError("is a file; give a folder for the sweep's results", file=self.root)
+        if (self.root / MARKER).is_file() or self._earlier_sweep():
+            return None
+        try:
+            held = sorted(p.name for p in self.root.iterdir())
+        except OSError as exc:
+            raise InputError(f"cannot read the output folder ({exc.strerror})", file=self.root) from None
+        if not held:
+            return None
+        shown = ", ".join(held[:5]) + (f" and {len(held) - 5} more" if len(held) > 5 else "")
+        replaced = ", ".join(n for n in WRITES if n in held) or "none of them"
+        if not force:
+            raise InputError(
+                f"holds files that no pound sweep wrote ({shown}); a sweep writes {MANIFEST}, summary.csv, "
+                f"summary.h5 and {CASES}/ into its folder, replacing files of those names: give a new or empty "
+                "folder, or pass --force to write into this one",
+                file=self.root,
+            )
+        return (f"{self.root}: writing into a folder that no pound sweep made (--force); of what it holds, "
+                f"{replaced} will be replaced")  # fmt: skip
+
+    def _earlier_sweep(self) -> bool:
+        """A folder an earlier release's sweep wrote: its sweep.json is a pound manifest."""
+        try:
+            data = json.loads(self.manifest.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return False
+        return (isinstance(data, dict) and "pound_version" in data and isinstance(data.get("cases"), list)
+                and all(isinstance(c, dict) and "hash" in c and "input_sha256" in c for c in data["cases"]))  # fmt: skip
+
     def prepare(self) -> None:
-        """Create the folder and its cases/ folder (an error naming the folder if it can't be)."""
+        """Create the folder and its cases/ folder (an error naming the folder if it can't be),
+        and mark it as a sweep's."""
         try:
             self.cases.mkdir(parents=True, exist_ok=True)
         except FileExistsError:
             raise InputError("is a file; give a folder for the sweep's results", file=self.root) from None
         except OSError as exc:
             raise InputError(f"cannot create the output folder ({exc.strerror})", file=self.root) from None
+        marker = self.root / MARKER
+        if not marker.is_file():
+            from .. import __version__
+
+            write_text(marker, json.dumps({"pound_version": __version__, "host": socket.gethostname(),
+                                           "pid": os.getpid()}) + "\n")  # fmt: skip
 
     @contextmanager
     def locked(self) -> Iterator[None]:

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ..atomic import atomic_path, write_text
+from ..atomic import atomic_path, hdf5_writer, write_text
 from .store import COMPLETE, PENDING, OutputFolder
 
 SUMMARY_H5 = "summary.h5"
@@ -128,8 +128,6 @@ def counts(rows: list[dict[str, Any]]) -> dict[str, int]:
 
 
 def _write_h5(path: Path, manifest: dict[str, Any], rows: list[dict[str, Any]]) -> None:
-    import h5py
-
     from .. import __version__
 
     columns = manifest["columns"]
@@ -137,7 +135,7 @@ def _write_h5(path: Path, manifest: dict[str, Any], rows: list[dict[str, Any]]) 
     table = np.zeros(len(rows), dtype=dtype)
     for c in columns:
         table[c["name"]] = [_h5_value(row[c["name"]], c["dtype"]) for row in rows]
-    with h5py.File(path, "w", track_order=True) as f:
+    with hdf5_writer(path, track_order=True) as f:
         f.attrs["pound_version"] = __version__
         f.attrs["title"] = manifest.get("title", "")
         f.attrs["sweep_file"] = manifest.get("sweep_file", "")

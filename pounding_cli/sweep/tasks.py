@@ -42,12 +42,18 @@ def run_case(document: dict[str, Any], source: str, expected_sha256: str, output
 
     A run that fails (diverges) writes its partial results, marked by their status. A case
     that cannot run at all leaves a failure note at `failure` (JSON: status, input_sha256,
-    host) instead; a successful rerun removes the note. Returns {"status": …}."""
+    host) instead; a successful rerun removes the note. Returns {"status": …}, and
+    {"write_error": message} when the file could not be written (a full disk): the sweep
+    then stops with that message, exit 2."""
     import time
+
+    from ..errors import WriteError
 
     t0 = time.perf_counter()
     try:
         status = _run(document, source, expected_sha256, Path(output))
+    except WriteError as exc:  # the disk is full (no note could be written either): the sweep stops
+        return {"status": f"failed: {exc}", "write_error": str(exc), "elapsed_s": time.perf_counter() - t0}
     except Exception as exc:  # noqa: BLE001 - one case's failure must not stop the sweep
         status = f"failed: {_message(exc)}"
         write_failure(Path(failure), expected_sha256, status)

@@ -33,6 +33,8 @@ _NPTS_NEW = re.compile(rf"^\s*NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*{_NUMBER}\s*(?:SE
 # Older NGA: "   7500    .0200    NPTS, DT".
 _NPTS_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+{_NUMBER}\s*,?\s+NPTS\s*,?\s*DT\b.*$", re.IGNORECASE)
 _NPTS_WORDS = re.compile(r"\bNPTS\b.*\bDT\b", re.IGNORECASE)
+_FORTRAN_EXPONENT = re.compile(r"(?<=[0-9.])[Dd](?=[-+]?[0-9])")
+"""A Fortran double-precision exponent letter, 1.5D-03: read as E, in the values as in the header."""
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")
 _VERTICAL = {"UP", "UD", "U", "V", "VER", "VERT", "VERTICAL", "Z", "DWN", "DOWN", "DN"}
 _NORTH = {"N", "NS", "N-S", "NORTH"}
@@ -206,7 +208,7 @@ def _angle(word: str) -> float | None:
 
 def _parse_values(lines: list[str], npts: int, name: str) -> np.ndarray:
     """The values after the 4 header lines; checks they are numbers and that there are NPTS."""
-    body = lines[4:]
+    body = [_FORTRAN_EXPONENT.sub("E", line) for line in lines[4:]]
     try:
         data = np.array(" ".join(body).split(), dtype=np.float64)
     except ValueError:
