@@ -5,7 +5,7 @@ of 2–40 buildings, the cost of one contact step (contact_forces) and of one "m
 begin within the horizon" check (contact_possible_within) with every pair tested and with
 sweep and prune, on the states of the first 0.8 s of a CDM run (Δt = 2·10⁻⁵ s, every 20th
 step). Times are thread CPU time, the best of several repeats (the machine is shared), ns per
-call. broad_phase.SWEEP_PAIRS_PER_MEMBER is chosen from this table.
+call. tunables.SWEEP_PAIRS_PER_MEMBER is chosen from this table.
 """
 
 from __future__ import annotations
