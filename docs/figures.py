@@ -386,10 +386,7 @@ def _record_text(model: Path) -> str:
 @registered("run")
 def run_value(model: str, key: str, fmt: str = "") -> str:
     """A key of `pound run MODEL --json` (dotted for nested keys)."""
-    value = run_json(model)
-    for part in key.split("."):
-        value = value[int(part)] if isinstance(value, list) else value[part]
-    return format(value, fmt) if fmt else str(value)
+    return _dotted(run_json(model), key, fmt)
 
 
 @registered("run-cdm-ms")
@@ -455,7 +452,11 @@ def period(model: str, building: str, mode: str) -> str:
 @registered("validate")
 def validate_value(model: str, key: str, fmt: str = "") -> str:
     """A key of `pound validate MODEL --json` (dotted; list items by index)."""
-    value = describe(model)
+    return _dotted(describe(model), key, fmt)
+
+
+def _dotted(value, key: str, fmt: str) -> str:  # type: ignore[no-untyped-def]
+    """The item of a JSON document at a dotted key (list items by index), formatted."""
     for part in key.split("."):
         value = value[int(part)] if isinstance(value, list) else value[part]
     return format(value, fmt) if fmt else str(value)

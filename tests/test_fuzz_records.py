@@ -43,7 +43,7 @@ from pounding_cli.cli import app
 from pounding_cli.records.inspect import open_record
 
 from conftest import model_doc, square_building
-from test_fuzz import CASE_SECONDS, deadline
+from test_fuzz import CASE_SECONDS, deadline, oddity
 
 EXAMPLES = int(os.environ.get("POUND_FUZZ_EXAMPLES", "1000"))
 DATA = Path(__file__).parent / "records" / "data"
@@ -228,17 +228,6 @@ doc_mutation = st.tuples(st.sampled_from(["delete", "set", "rename"]), st.intege
 ODDITIES = [None] * 24 + ["fifo", "devzero", "loop", "folder"]
 """The fuzzed record file is not a regular file (issue 27: a FIFO blocked, /dev/zero was read
 without end): exit 2 naming it, within the case's deadline."""
-
-
-def oddity(path: Path, kind: str) -> None:
-    if kind == "fifo":
-        os.mkfifo(path)
-    elif kind == "devzero":
-        path.symlink_to("/dev/zero")
-    elif kind == "loop":
-        path.symlink_to(path.name)
-    else:
-        path.mkdir()
 
 
 def plan_case(folder: Path, case: dict[str, Any]) -> tuple[list[str], Path, Path]:

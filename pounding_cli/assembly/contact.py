@@ -268,16 +268,10 @@ def _level_pairs(flat: list) -> list[tuple[int, int]]:  # type: ignore[type-arg]
 
 def _obstacle_field(model, o: int) -> str:
     """The model field of obstacle o of all_obstacles(): given, or a moat wall segment."""
-    if o < len(model.obstacles):
-        return f"obstacles[{o}].polygon"
-    o -= len(model.obstacles)
-    for b, building in enumerate(model.buildings):
-        iso = building.isolation
-        if iso is not None and iso.moat is not None:
-            if o < len(iso.slab):
-                return f"buildings[{b}].isolation.moat.gap"
-            o -= len(iso.slab)
-    return "obstacles"
+    root = _obstacle_root(model, o)
+    if root.endswith(".moat"):
+        return root + ".gap"
+    return root + ".polygon" if root.startswith("obstacles[") else root
 
 
 def _check_apart(slab: np.ndarray, obstacle: np.ndarray, info: PairInfo, field: str, loaded: LoadedModel) -> None:
