@@ -31,6 +31,7 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
+from .assembly.levels import clear_distance, unmet_neighbours
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
@@ -87,7 +88,7 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
 def setup_counts(loaded: LoadedModel) -> limits.Setup:
     """The model's size from its counts alone (nothing generated or assembled): storeys and
     column instances per building, contact candidates, whether the exact integrator may run."""
-    from .assembly.contact import LEVEL_TOLERANCE
+    from .assembly.levels import LEVEL_TOLERANCE
 
     model = loaded.model
     storeys, columns, levels, owners = [], [], [], []
@@ -211,6 +212,12 @@ def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
+def _level_buildings(buildings: list, pairs: list) -> list[tuple[int, int]]:  # type: ignore[type-arg]
+    """The building indices of each slab–slab candidate."""
+    index = {b.name: k for k, b in enumerate(buildings)}
+    return [(index[p.body_a], index[p.body_b]) for p in pairs if p.floor_b]
+
+
 def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     """What a model resolves to: masses, periods, damping, record, time step (JSON-ready)."""
     scene = prepare(model)
@@ -227,7 +234,8 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             {
                 "name": bld.name,
                 "storeys": bld.n_floors,
-                "height_m": float(bld.elevation[-1]),
+                "height_m": bld.height,
+                "base_elevation_m": bld.base_elevation,
                 "total_mass_kg": float(masses[:, 0].sum()),
                 "floor_masses_kg": masses[:, 0].tolist(),
                 "rotational_inertia_kgm2": masses[:, 2].tolist(),
@@ -266,12 +274,36 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "floor_a": p.floor_a,
                     "body_b": p.body_b,
                     "floor_b": p.floor_b,
+                    "kind": "slab-slab" if p.floor_b else "slab-obstacle",
                     "elevation_m": p.elevation,
+                    "clear_distance_m": clear_distance(contact.body_poly[contact.pair_a[i], : contact.body_nv[contact.pair_a[i]]],
+                                                       contact.body_poly[contact.pair_b[i], : contact.body_nv[contact.pair_b[i]]]),
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
                     **pair_damping_and_friction(contact, i),
                 }
                 for i, p in enumerate(contact.pairs)
+            ],
+            "storey_crossings": [
+                {
+                    "body_a": system.buildings[c.building].name,
+                    "floor_a": c.floor + 1,
+                    "body_b": system.buildings[c.struck].name,
+                    "storey_b": c.storey,
+                    "kind": "slab-storey",
+                    "elevation_m": c.elevation,
+                    "xi": c.xi,
+                    "storey_height_m": c.height,
+                    "clear_distance_m": clear_distance(system.buildings[c.building].slabs[c.floor],
+                                                       system.buildings[c.struck].slabs[c.storey - 1]),
+                    "simulated": False,
+                }
+                for c in contact.crossings
+            ],
+            "unmet_neighbours": [
+                {"building_a": system.buildings[i].name, "building_b": system.buildings[j].name, "distance_m": d}
+                for i, j, d in (unmet_neighbours(system.buildings, _level_buildings(system.buildings, contact.pairs),
+                                                 contact.crossings) if m.contact.enabled else [])
             ],
             "friction_static": m.contact.friction_static,
             "friction_kinetic": m.contact.friction_kinetic,
@@ -457,6 +489,7 @@ def execute(
         "steps": response.steps,
         "contact_steps": response.contact_steps,
         "contact_pairs": scene.contact.n_pairs,
+        "unsimulated_storey_crossings": len(scene.contact.crossings),
         "impacts": response.events_total,
         "impacts_logged": int(response.events.shape[0]),
         "n_dof": system.n_dof,

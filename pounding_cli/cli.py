@@ -176,6 +176,10 @@ def run(
         signal.signal(sig, signal.SIG_DFL)
     if note:
         err.print(note, markup=False)
+    if result.diagnostics.get("unsimulated_storey_crossings"):
+        from .assembly.levels import unsimulated_warning
+
+        err.print(unsimulated_warning(result.diagnostics["unsimulated_storey_crossings"]), markup=False)
     summary = run_summary(result)
     if json_:
         print(json.dumps(summary, indent=2))
@@ -738,6 +742,40 @@ def _floor_groups(b: dict[str, Any]) -> list[str]:
     return lines
 
 
+CANDIDATE_ROWS = 20
+"""pound validate lists at most this many contact candidates (--json gives them all)."""
+
+
+def _print_candidates(c: dict[str, Any]) -> None:
+    """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and clear
+    distance at rest; slab–storey candidates said to be not simulated yet; neighbours that
+    cannot meet named in a warning."""
+    rows = [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} floor {p['floor_b']}" if p["floor_b"] else p["body_b"],
+             p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"]]  # fmt: skip
+    rows += [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} storey {p['storey_b']}", p["kind"],
+              p["elevation_m"], f"{p['xi']:.3f}", p["clear_distance_m"]) for p in c["storey_crossings"]]  # fmt: skip
+    if rows:
+        table = Table(title="contact candidates at rest", title_justify="left")
+        for col, justify in (("slab", "left"), ("meets", "left"), ("kind", "left"), ("z (m)", "right"),
+                             ("ξ", "right"), ("clear (m)", "right")):  # fmt: skip
+            table.add_column(col, justify=justify)  # type: ignore[arg-type]
+        for a, b, kind, z, xi, d in rows[:CANDIDATE_ROWS]:
+            table.add_row(a, b, kind.replace("-", "–"), f"{z:g}", xi, f"{d:.4g}")
+        out.print(table, soft_wrap=False)
+        out.print("  z: elevation; ξ: where in the storey struck (0 at its floor below, 1 at the floor above); "
+                  "clear: distance in plan", markup=False)  # fmt: skip
+        if len(rows) > CANDIDATE_ROWS:
+            out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
+    if c["storey_crossings"]:
+        from .assembly.levels import unsimulated_warning
+
+        err.print(unsimulated_warning(len(c["storey_crossings"])), markup=False)
+    for u in c["unmet_neighbours"]:
+        err.print(f"warning: buildings {u['building_a']!r} and {u['building_b']!r} are {u['distance_m']:.3g} m apart "
+                  "in plan, but no floor of one lies at a floor or inside a storey of the other, so they cannot "
+                  "meet in pound; check their base_elevation and storey heights", markup=False)  # fmt: skip
+
+
 def _print_description(info: dict[str, Any]) -> None:
     out.print(f"[bold]{escape(info['title'] or info['file'])}[/bold]")
     for b in info["buildings"]:
@@ -790,7 +828,8 @@ def _print_description(info: dict[str, Any]) -> None:
     if not c["enabled"]:
         out.print("contact: off", markup=False)
     elif not c["pairs"]:
-        out.print("contact: no floors share a level, so nothing can touch", markup=False)
+        out.print("contact: no floors share a level" + (", so nothing can touch" if not c["storey_crossings"] else ""),
+                  markup=False)  # fmt: skip
     else:
         out.print(f"contact: {len(c['pairs'])} candidate pairs", markup=False)
         groups: dict[str, list[str]] = {}  # the pairs' kinds by their resolved impact parameters
@@ -807,6 +846,8 @@ def _print_description(info: dict[str, Any]) -> None:
             out.print(f"  likely contacts (by the angles between the slabs' edges): ω_contact = "
                       f"{c['omega_likely_rad_s']:.4g} rad/s, 2/ω_contact = {2 / c['omega_likely_rad_s']:.4g} s",
                       markup=False)  # fmt: skip
+    if c["enabled"]:
+        _print_candidates(c)
     e = info["excitation"]
     out.print(
         f"excitation: {e['record'] or 'record'}, components {'+'.join(e['components'])} at θ = "

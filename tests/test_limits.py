@@ -254,7 +254,8 @@ def test_the_time_loop_estimate_counts_columns_pairs_and_steps():
 
 def test_level_pairs_match_every_floor_against_every_floor():
     """The candidates found by sorting elevations are those of the all-pairs loop, in its order."""
-    from pounding_cli.assembly.contact import LEVEL_TOLERANCE, _level_pairs
+    from pounding_cli.assembly.contact import _level_pairs
+    from pounding_cli.assembly.levels import LEVEL_TOLERANCE
 
     rng = np.random.default_rng(3)
 

@@ -49,7 +49,7 @@ class BuildingArrays:
     rotation: float  # rad, building x from global X
     mass: np.ndarray  # (3N,) diagonal of M: m, m, J per floor (kg, kg, kg·m²)
     mass_centre: np.ndarray  # (N, 2) global plan position, m
-    elevation: np.ndarray  # (N,) floor level above the ground, m
+    elevation: np.ndarray  # (N,) floor level above the common ground datum, m (base_elevation + storey heights)
     slabs: list[np.ndarray]  # N counter-clockwise (n_v, 2) global outlines at rest, m
     storey_k: np.ndarray  # (N, 6, 6): storey s links floor s−1 (ground for s = 0) and s
     stiffness: np.ndarray  # (3N, 3N) global K of the building
@@ -61,6 +61,18 @@ class BuildingArrays:
     isolated: bool = False  # floor 0 is a base slab on isolators
     damping_links: list[DampingLink] = field(default_factory=list)  # C − (a0·M + a1·K), damping.py
     rayleigh_modes: Modes | None = None  # the modes that fix (a0, a1): an isolated building's superstructure's on a fixed base
+    base_elevation: float = 0.0  # m: the building's ground, the foot of its lowest storey
+
+    @property
+    def levels(self) -> np.ndarray:
+        """(N + 1,) the building's ground and its floors, bottom up, m: storey j (1-based)
+        spans levels[j − 1] to levels[j]."""
+        return np.concatenate([[self.base_elevation], self.elevation])
+
+    @property
+    def height(self) -> float:
+        """From the building's ground to its roof, m."""
+        return float(self.elevation[-1] - self.base_elevation)
 
     @property
     def damping(self) -> np.ndarray:
@@ -133,7 +145,7 @@ def assemble_building(
     n = len(levels)
     mass = np.empty(3 * n)
     centre = np.empty((n, 2))
-    elevation = np.cumsum([lv[0] for lv in levels])
+    elevation = building.base_elevation + np.cumsum([lv[0] for lv in levels])
     slabs = []
     for i, (_, slab, m_given, m_area, j_given, ecc) in enumerate(levels):
         local = np.asarray(slab, dtype=float)
@@ -257,6 +269,7 @@ def assemble_building(
         mass=mass,
         mass_centre=centre,
         elevation=elevation,
+        base_elevation=float(building.base_elevation),
         slabs=slabs,
         storey_k=storey_k,
         stiffness=stiffness,

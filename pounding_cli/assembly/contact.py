@@ -14,11 +14,10 @@ import numpy as np
 from ..errors import InputError
 from ..model import Contact, LoadedModel, Material
 from .building import BuildingArrays
+from .levels import LEVEL_TOLERANCE, StoreyCrossing, moat_pits, storey_crossings
 from ..solver.tunables import LIKELY_DEPTH, STEP_BOUND
 from .polygon import polygon_centroid
 
-LEVEL_TOLERANCE = 1e-3
-"""Floors (and obstacles) whose elevations differ by less than this (m) are at one level."""
 
 
 def dynamic_modulus(e_static: float) -> float:
@@ -106,6 +105,7 @@ class ContactArrays:
     pair_fields: list[tuple[str, str]] = field(default_factory=list)  # the model fields that set each pair's (k_N, k_T)
     cause_max: tuple[int, int] = (-1, 0)  # (pair, 0: k_N·line, 1: k_T) that sets omega_max
     cause_step: tuple[int, int] = (-1, 0)  # (pair, term) that sets omega_step
+    crossings: list[StoreyCrossing] = field(default_factory=list)  # slabs between a neighbour's floors (levels.py): not yet simulated
 
     def stiffness_field(self, cause: tuple[int, int]) -> str:
         """The model field that sets the stiffness term `cause` (a cause_max or cause_step)."""
@@ -205,7 +205,8 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         omega_likely, cause_step = STEP_BOUND * omega_max, cause_max
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega_max, "pair_mobility": mobility,
                             "omega_step": omega_likely, "pair_fields": fields, "cause_max": cause_max,
-                            "cause_step": cause_step})  # fmt: skip
+                            "cause_step": cause_step,
+                            "crossings": storey_crossings(buildings, moat_pits(model)) if contact.enabled else []})  # fmt: skip
 
 
 def _stiffness_fields(model, o: int) -> tuple[str, str]:

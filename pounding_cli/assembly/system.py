@@ -15,9 +15,8 @@ import numpy as np
 from ..errors import InputError
 from ..model import LoadedModel
 from .building import BuildingArrays, assemble_building
+from .levels import LEVEL_TOLERANCE, moat_pits, neighbours, storey_crossings
 
-LEVEL_TOLERANCE = 1e-3
-"""Floors of two buildings whose elevations differ by less than this (m) are at one level."""
 
 
 @dataclass(frozen=True)
@@ -105,28 +104,53 @@ def assemble(loaded: LoadedModel) -> System:
         assemble_building(b, model.materials, f"buildings[{i}]", str(loaded.source), model.hysteresis, model.bearings)
         for i, b in enumerate(model.buildings)
     ]
-    check_no_overlap_at_rest(buildings, str(loaded.source))
+    check_no_overlap_at_rest(buildings, str(loaded.source), moat_pits(model))
     return combine(buildings)
 
 
-def check_no_overlap_at_rest(buildings: list[BuildingArrays], source: str) -> None:
-    """Slabs of different buildings at one level must not overlap before the ground moves."""
+def check_no_overlap_at_rest(buildings: list[BuildingArrays], source: str, pits: frozenset[int] = frozenset()) -> None:
+    """Before the ground moves, no slab of one building may overlap another building: its
+    slab at one level, or its storey's outline where the slab lies between its floors. And no
+    building may stand wholly below the ground of a neighbour within NEAR of it: its roof
+    would face the neighbour's foundation, which pound does not model."""
     import shapely
+
+    def refuse(a: int, fa: int, b: int, fb: int, z: float, area: float, what: str) -> None:
+        raise InputError(
+            f"at rest, floor {fa + 1} of building {buildings[a].name!r} overlaps {what} {fb + 1} of building "
+            f"{buildings[b].name!r} at elevation {z:g} m by {area:.4g} m²; move the building (origin, rotation) "
+            "so that they are apart or touch",
+            file=source,
+            field=f"buildings[{max(a, b)}].origin",
+        )
+
+    def overlap(pa: np.ndarray, pb: np.ndarray) -> float:
+        sa, sb = shapely.Polygon(pa), shapely.Polygon(pb)
+        area = sa.intersection(sb).area
+        return area if area > 1e-9 * min(sa.area, sb.area) else 0.0
 
     for j, b in enumerate(buildings):
         for i, a in enumerate(buildings[:j]):
             for fa, za in enumerate(a.elevation):
                 for fb in np.flatnonzero(np.abs(b.elevation - za) < LEVEL_TOLERANCE):
-                    pa, pb = shapely.Polygon(a.slabs[fa]), shapely.Polygon(b.slabs[fb])
-                    area = pa.intersection(pb).area
-                    if area > 1e-9 * min(pa.area, pb.area):
-                        raise InputError(
-                            f"at rest, floor {fb + 1} of building {b.name!r} overlaps floor {fa + 1} "
-                            f"of building {a.name!r} at elevation {za:g} m by {area:.4g} m²; move "
-                            "the building (origin, rotation) so that the slabs are apart or touch",
-                            file=source,
-                            field=f"buildings[{j}].origin",
-                        )
+                    if area := overlap(a.slabs[fa], b.slabs[fb]):
+                        refuse(j, int(fb), i, fa, za, area, "floor")
+    for c in storey_crossings(buildings, pits):
+        struck = buildings[c.struck]
+        if area := overlap(buildings[c.building].slabs[c.floor], struck.slabs[c.storey - 1]):
+            refuse(c.building, c.floor, c.struck, c.storey - 1, c.elevation, area, "the storey beneath floor")
+    for i, j, d in neighbours(buildings):
+        for low, high in ((i, j), (j, i)):
+            a, b = buildings[low], buildings[high]
+            if a.elevation[-1] < b.base_elevation - LEVEL_TOLERANCE:
+                raise InputError(
+                    f"building {a.name!r} stands wholly below the ground of building {b.name!r} (its roof at "
+                    f"{a.elevation[-1]:g} m, the other's ground at {b.base_elevation:g} m), {d:.3g} m from it in "
+                    "plan: its floors would face the other's foundation, which pound does not model; check "
+                    "the base_elevation of both",
+                    file=source,
+                    field=f"buildings[{max(i, j)}].base_elevation",
+                )
 
 
 def combine(buildings: list[BuildingArrays]) -> System:

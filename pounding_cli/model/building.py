@@ -269,6 +269,11 @@ class Building(Strict):
     """Rotation of the building's local x axis from the global X axis, degrees,
     counter-clockwise."""
 
+    base_elevation: Annotated[Real, Field(ge=-1e4, le=1e4)] = 0.0
+    """Elevation of the building's ground, m (positive up): the foot of its lowest storey
+    (of its isolation storey, when isolated). It shifts all its levels, for sites on a slope
+    or a building on a podium; the ground motion is the same for every building."""
+
     floors: Annotated[list[Floor], Field(min_length=1)]
     """Floors from the lowest up; each carries the storey of columns beneath it."""
 

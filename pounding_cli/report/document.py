@@ -497,7 +497,7 @@ def _building(b: Any, column: str | None) -> BuildingReport:
     return BuildingReport(
         name=b.name,
         storeys=n_storeys,
-        height_m=float(b.elevation[-1]) if n_storeys else 0.0,
+        height_m=float(b.elevation[-1] - b.base_elevation) if n_storeys else 0.0,
         mass_kg=float(b.floor_mass[:, 0].sum()),
         column_lines=len(b.column_names),
         periods_s=[float(t) for t in b.periods],

@@ -67,6 +67,7 @@ def building_result(system: System, b: int, response: Response, column_offset: i
         rayleigh=(float(bld.rayleigh[0]), float(bld.rayleigh[1])),
         yielding=yielding_result(bld, response, member_offset),
         isolated=bld.isolated,
+        base_elevation=bld.base_elevation,
     )
 
 

@@ -177,6 +177,7 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     if b.isolated:  # C = Tᵀ(a0·M_s + a1·K_s)T + C_b: on the superstructure's deformation (docs/theory.md §12)
         modes.attrs["rayleigh_of"] = "superstructure on a fixed base, acting on its deformation"
     g.attrs["isolated"] = b.isolated
+    g.attrs["base_elevation"] = b.base_elevation  # m: the building's ground; floors.elevation is absolute
     if b.yielding is not None:
         yielding = g.create_group("yielding")
         _write_yielding(yielding, b.yielding)
@@ -271,6 +272,7 @@ def _read_building(g: h5py.Group) -> BuildingResult:
         rayleigh=(float(g["modes"].attrs["rayleigh_a0"]), float(g["modes"].attrs["rayleigh_a1"])),
         yielding=_read_yielding(g["yielding"]) if "yielding" in g else None,
         isolated=bool(g.attrs.get("isolated", False)),
+        base_elevation=float(g.attrs.get("base_elevation", 0.0)),
     )
 
 

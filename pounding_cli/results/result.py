@@ -76,6 +76,7 @@ class BuildingResult:
     rayleigh: tuple[float, float]  # (a0 1/s, a1 s)
     yielding: YieldingResult | None = None  # inelastic columns and isolators, if any
     isolated: bool = False  # floor 1 is a base slab on isolators (storey 1: the isolation storey)
+    base_elevation: float = 0.0  # m: the building's ground (elevation is measured from the common datum)
 
     def column(self, name: str) -> np.ndarray:
         """Peak interstorey deflections (n_storeys, 3) of one column by name."""

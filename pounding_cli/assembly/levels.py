@@ -1,0 +1,118 @@
+"""Where the floors of one building meet another: at the neighbour's floor (slab–slab) or
+between its floors (slab–storey).
+
+A slab at elevation z meets a neighbour whose own floor lies within LEVEL_TOLERANCE of z at
+that floor (slab–slab, the paper's scope). Otherwise, where z lies strictly inside one of the
+neighbour's storeys, z_below < z < z_above, the slab meets that storey at
+
+    ξ = (z − z_below) / h,   h = z_above − z_below,
+
+0 at the floor below (or the neighbour's ground) and 1 at the floor above. The storey's
+outline there is the slab of the floor above it (the façade of a shear-type storey follows
+its columns, which stand under that slab); it moves with the floors' motion interpolated by
+the fixed-fixed column shape s(ξ) = 3ξ² − 2ξ³ (docs/theory.md, "Floors at different heights").
+A slab within LEVEL_TOLERANCE of the neighbour's ground meets neither: it faces the
+neighbour's foundation, which pound does not model.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .building import BuildingArrays
+
+LEVEL_TOLERANCE = 1e-3
+"""Floors (and obstacles) whose elevations differ by less than this (m) are at one level."""
+
+NEAR = 1.0
+"""Two buildings whose outlines at rest come within this (m) of each other in plan are
+neighbours: they should have a contact candidate, and are named in a warning if they have
+none (their floors at levels where nothing can meet)."""
+
+
+@dataclass(frozen=True)
+class StoreyCrossing:
+    """A slab that lies between two floors of a neighbour: it can strike that storey."""
+
+    building: int  # index of the slab's building
+    floor: int  # 0-based floor of the slab in its building
+    struck: int  # index of the struck building
+    storey: int  # 1-based storey of the struck building: between its floors storey − 1 (0: its ground) and storey
+    elevation: float  # the slab's elevation, m
+    xi: float  # (z − z_below)/h, in (0, 1)
+    height: float  # h, the storey's height, m
+
+
+def storey_crossings(buildings: list[BuildingArrays], pits: frozenset[int] = frozenset()) -> list[StoreyCrossing]:
+    """Every slab of every building that lies inside a storey of another building, ordered by
+    slab building, slab floor, struck building. A slab within LEVEL_TOLERANCE of a floor of
+    the neighbour is slab–slab instead, and one within it of the neighbour's ground (or not
+    above it, or above its roof) meets nothing of that building. `pits`: the buildings whose
+    isolation storey stands in a moat; the moat wall shields their base slab (floor 1) and their
+    isolation storey (storey 1) from the neighbours, so neither is a crossing."""
+    out = []
+    for a, slabs in enumerate(buildings):
+        for b, struck in enumerate(buildings):
+            if b == a:
+                continue
+            levels = struck.levels
+            for f, z in enumerate(slabs.elevation):
+                if not levels[0] + LEVEL_TOLERANCE <= z <= levels[-1] - LEVEL_TOLERANCE or (f == 0 and a in pits):
+                    continue
+                above = int(np.searchsorted(levels, z, side="right"))  # levels[above − 1] ≤ z < levels[above]
+                below_z, above_z = float(levels[above - 1]), float(levels[above])
+                if z - below_z < LEVEL_TOLERANCE or above_z - z < LEVEL_TOLERANCE:
+                    continue  # at a floor of the neighbour: slab–slab
+                if above == 1 and b in pits:
+                    continue
+                h = above_z - below_z
+                out.append(StoreyCrossing(a, f, b, above, float(z), float((z - below_z) / h), h))
+    return out
+
+
+def moat_pits(model) -> frozenset[int]:  # type: ignore[no-untyped-def]
+    """The indices of the buildings of a model whose isolation system has a moat wall."""
+    return frozenset(b for b, bld in enumerate(model.buildings) if bld.isolation is not None and bld.isolation.moat is not None)
+
+
+def unsimulated_warning(n: int) -> str:
+    """What pound validate and pound run say of n slab–storey candidates, which this version
+    lists but does not simulate."""
+    return (f"warning: {n} slab{'s' if n != 1 else ''} lie{'s' if n == 1 else ''} between the floors of a neighbour "
+            "(slab–storey candidates: pound validate lists them); this version does not yet simulate slab–storey "
+            "impacts, so a run reports none of them")  # fmt: skip
+
+
+def clear_distance(poly_a: np.ndarray, poly_b: np.ndarray) -> float:
+    """The smallest distance in plan between two outlines at rest, m (0 where they touch)."""
+    import shapely
+
+    return float(shapely.Polygon(poly_a).distance(shapely.Polygon(poly_b)))
+
+
+def neighbours(buildings: list[BuildingArrays]) -> list[tuple[int, int, float]]:
+    """(i, j, d) for every two buildings i < j whose outlines at rest (any slab) come within
+    NEAR of each other in plan, d their smallest distance, m; found with shapely's STRtree, so
+    a city block is not compared building by building."""
+    import shapely
+
+    outlines = [shapely.union_all([shapely.Polygon(p) for p in b.slabs]) for b in buildings]
+    tree = shapely.STRtree(outlines)
+    found = tree.query(outlines, predicate="dwithin", distance=NEAR)
+    out = []
+    for i, j in sorted({(int(min(i, j)), int(max(i, j))) for i, j in found.T if i != j}):
+        out.append((i, j, float(outlines[i].distance(outlines[j]))))
+    return out
+
+
+def unmet_neighbours(buildings: list[BuildingArrays], level_pairs: list[tuple[int, int]],
+                     crossings: list[StoreyCrossing]) -> list[tuple[int, int, float]]:  # fmt: skip
+    """The neighbours (i, j, d) of `neighbours` between which no contact can happen: no floors
+    at one level (`level_pairs`: building indices of the slab–slab candidates) and no slab of
+    one inside a storey of the other. Such a pair is named in a warning: their floors all lie
+    where nothing meets (one wholly above the other's roof, or at the other's ground)."""
+    met = {(min(a, b), max(a, b)) for a, b in level_pairs}
+    met |= {(min(c.building, c.struck), max(c.building, c.struck)) for c in crossings}
+    return [(i, j, d) for i, j, d in neighbours(buildings) if (i, j) not in met]
