@@ -957,9 +957,18 @@ def _print_record(s: dict[str, Any]) -> None:
 def main() -> None:
     """Console-script entry point. typer ends a KeyboardInterrupt (Ctrl-C, or a SIGTERM once
     __main__ took it over) that arrives while it parses the command line with exit 130 and
-    no word; pound's contract for an interrupted command is exit 1, "interrupted"."""
+    no word, and one that arrives while typer builds the command from the functions' signatures
+    (before any command runs) escapes it; pound's contract for an interrupted command is exit
+    1, "interrupted"."""
+    from .interrupts import InterruptedAfterWriting
+
     try:
         app()
+    except InterruptedAfterWriting:
+        raise  # the results have their final name: the signal's own end (interrupts.die_by), never exit 1
+    except KeyboardInterrupt:
+        err.print("interrupted", markup=False)
+        raise SystemExit(1) from None
     except SystemExit as exc:
         if exc.code == 130:
             err.print("interrupted", markup=False)

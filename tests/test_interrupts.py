@@ -238,3 +238,23 @@ def test_an_interrupt_swallowed_by_a_weakref_callback_is_not_printed_but_kept(mo
         with pytest.raises(Interrupted):
             stop_if_requested()
     assert sys.unraisablehook is hook
+
+
+def test_an_interrupt_while_typer_builds_the_command_is_exit_1(monkeypatch, capsys) -> None:
+    """A SIGTERM that lands while typer turns the commands' signatures into click commands
+    (before any command runs, outside click's own handling) ended pound with a traceback (found
+    by tests/test_write_faults.py in a fresh-clone CI run); it is exit 1, "interrupted"."""
+    import typer.main
+
+    from pounding_cli import cli
+    from pounding_cli.interrupts import Interrupted
+
+    def interrupted(*args, **kwargs):
+        raise Interrupted
+
+    monkeypatch.setattr(typer.main, "get_command", interrupted)
+    monkeypatch.setattr(sys, "argv", ["pound", "--version"])
+    with pytest.raises(SystemExit) as exit_:
+        cli.main()
+    assert exit_.value.code == 1
+    assert "interrupted" in capsys.readouterr().err
