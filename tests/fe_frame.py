@@ -15,7 +15,9 @@ Physics (one horizontal direction x, positive from the neighbour towards the str
   either explicit too (`other_columns="beam"`: n identical columns with identical end motions
   respond identically, so one beam with n·EI and n·ρA is exact) or lumped
   (`other_columns="lumped"`: stiffness n·12EI/h³ between the floors and mass n·ρAh/2 added to
-  each end floor). The struck column is always explicit, with a node exactly at the contact
+  each end floor), or `"guyan"`: that stiffness with the consistent mass of the storey shapes
+  (ρAh·[[13/35, 9/70], [9/70, 13/35]]), the static condensation of a beam without its local
+  dynamics. The struck column is always explicit, with a node exactly at the contact
   height z = z_(i−1) + ξ·h_i.
 * With ρA = 0 every column DOF is massless and is condensed statically (Guyan) phase by phase,
   the contact node too: the contact spring then acts in series with the column's local
@@ -913,12 +915,14 @@ def build_fe(frame: Frame, nb: Neighbour, imp: Impact, n_e: int, other_columns="
         if n_other:
             if other_columns == "beam":
                 _column(asm, bottom, top, h, n_other * frame.EI, n_other * frame.rhoA, np.linspace(0, h, n_e + 1), f"A s{i} others")
-            elif other_columns == "lumped":
+            elif other_columns in ("lumped", "guyan"):
                 k = n_other * 12.0 * frame.EI / h**3
                 asm.add_matrix(asm.triplets_K, [bottom, top], k * np.array([[1.0, -1.0], [-1.0, 1.0]]))
-                m = n_other * frame.rhoA * h / 2
-                if m:
-                    asm.triplets_M += [(bottom, bottom, m), (top, top, m)]
+                m = n_other * frame.rhoA * h
+                if m and other_columns == "lumped":
+                    asm.triplets_M += [(bottom, bottom, m / 2), (top, top, m / 2)]
+                elif m:  # consistent mass of the storey shapes (1 − s, s)
+                    asm.add_matrix(asm.triplets_M, [bottom, top], m * np.array([[13 / 35, 9 / 70], [9 / 70, 13 / 35]]))
             else:
                 raise ValueError(other_columns)
         frame_dofs += list(range(before, len(asm.labels)))
@@ -949,7 +953,7 @@ def build_fe(frame: Frame, nb: Neighbour, imp: Impact, n_e: int, other_columns="
     return model, x0, v0
 
 
-def build_reduced(frame: Frame, nb: Neighbour, imp: Impact, variant="b", n_modes=0, residual=True, form="cb"):
+def build_reduced(frame: Frame, nb: Neighbour, imp: Impact, variant="b", n_modes=0, residual=True, form="cb", extra_flex=0.0):
     """The reduced model as pound would implement it (planar):
 
     * floors of both buildings as lumped DOFs; every storey's stiffness n_c·12EI/h³ (struck
@@ -970,6 +974,8 @@ def build_reduced(frame: Frame, nb: Neighbour, imp: Impact, variant="b", n_modes
       the modal masses decouple from the floors (each local mode is a mass m_k on a spring k_k
       attached to the floors with weights M_qb/m_k); `form="lumped"`: that, with the
       remaining floor mass block lumped by rows (a diagonal mass matrix).
+    * `extra_flex` (m/N) is added to the series flexibility (e.g. the point load's shear
+      deformation a·b/(κGA·h), for the study of the idealisation's limits).
     """
     if variant not in ("a", "b", "c"):
         raise ValueError(variant)
@@ -1018,7 +1024,7 @@ def build_reduced(frame: Frame, nb: Neighbour, imp: Impact, variant="b", n_modes
     o[b] += psi
     for q, dk in zip(qs, data):
         o[q] += dk["phi_xi"]
-    flex = point_load_flexibility(EI, h, imp.xi) - sum(dk["phi_xi"] ** 2 * h**3 / (EI * dk["beta4"]) for dk in data)
+    flex = point_load_flexibility(EI, h, imp.xi) - sum(dk["phi_xi"] ** 2 * h**3 / (EI * dk["beta4"]) for dk in data) + extra_flex
     w = None
     if variant in ("b", "c") and (residual or not n_modes):
         w = asm.add("node", True)
