@@ -31,6 +31,7 @@ from fe_frame import (
     build_fe,
     build_reduced,
     clamped_beta,
+    clamped_modal_data,
     point_load_flexibility,
     simulate,
 )
@@ -136,6 +137,31 @@ def label(model, n):
 # --- the tables ----------------------------------------------------------------------------------
 
 
+def T0():
+    """The constants of the reduced model (c) for the study's column: what pound needs per mode."""
+    print("### T0. Constants of the reduced model (c) for the study's column (h = 3.5 m, 35 × 35 cm, ρA = 306.25 kg/m)\n")
+    print("`fe_study.T0` (from `fe_frame.clamped_modal_data`). Mode k of the clamped–clamped column, unit mean square: modal mass m = ρAh = "
+          f"{RHOA * H:.1f} kg, stiffness EI·(β_kL)⁴/h³, mass couplings to the floors below/above ρAh·α_k,b with α_k,b = ∫ψ_b·φ_k dξ (ψ = (1 − s, s)); "
+          "the contact point's participation φ_k(ξ); the residual flexibility left for the series spring after n modes, as a fraction of a³b³/(3EIh³).\n")
+    rows = []
+    for k in range(1, 9):
+        d = clamped_modal_data(k, 0.5)
+        rows.append([k, f"{clamped_beta(k):.4f}", f"{EI * d['beta4'] / H**3 / 1e6:.1f}", f"{d['bb'][0]:+.4f}", f"{d['bb'][1]:+.4f}"]
+                    + [f"{clamped_modal_data(k, xi)['phi_xi']:+.4f}" for xi in XIS])  # fmt: skip
+    print(table(["k", "β_k·L", "k_k (MN/m)", "α_k,bottom", "α_k,top"] + [f"φ_k({xi})" for xi in XIS], rows))
+    print()
+    rows = []
+    for n in (0, 1, 2, 3, 5, 8):
+        row = [n]
+        for xi in XIS:
+            f0 = point_load_flexibility(EI, H, xi)
+            fm = sum(clamped_modal_data(k, xi)["phi_xi"] ** 2 * H**3 / (EI * clamped_beta(k) ** 4) for k in range(1, n + 1))
+            row.append(f"{(f0 - fm) / f0:.4f}")
+        rows.append(row)
+    print(table(["modes n"] + [f"residual / total at ξ = {xi}" for xi in XIS], rows))
+    print()
+
+
 def T1():
     """Massless columns: the FE (the mesh does not matter: Hermite statics is exact) against (a), (b)."""
     print("### T1. Massless columns: FE reference against the reduced models (a) and (b)\n")
@@ -215,6 +241,22 @@ def T3b():
     print()
 
 
+def T3c():
+    """The residual flexibility: (c) with and without it."""
+    print(f"### T3c. Craig–Bampton without the residual flexibility, against FE {REF_MESH}\n")
+    print("`fe_study.T3c`: relative errors of (c) n when the truncated modes' static flexibility is dropped (contact spring on the modal expansion directly), next to (c) n with it (T3).\n")
+    keys = ["impulse", "peak_F", "F_avg", "V_bot_avg", "V_top_avg", "drift_A"]
+    rows = []
+    for xi in (0.25, 0.5):
+        ref = run("fe", xi, RHOA, REF_MESH)
+        for n in (1, 3, 5, 8):
+            for resid in (True, False):
+                r = run("c", xi, RHOA, n, residual=resid)
+                rows.append([xi, n, "with" if resid else "without", r["n_impacts"]] + [pct(err(r, ref, k)) for k in keys])
+    print(table(["ξ", "modes", "residual", "impacts"] + [dict((c[0], c[1]) for c in COLS)[k] for k in keys], rows))
+    print()
+
+
 def T4():
     """Which averaging window: FE spread with the mesh and reduced-model error, per window."""
     print("### T4. Running-average window for the force and the column shear\n")
@@ -254,6 +296,21 @@ def T5():
             r = run("c", 0.5, RHOA, n, kc_factor=f)
             rows.append([f"× {f:g}", f"(c) {n}", r["n_impacts"]] + [f"{r[k] * (1e3 if k == 'drift_A' else 1e-3 if k == 'impulse' else 1e-6):.3f}" for k in keys])
     print(table(["k_c", "model", "impacts", "impulse (kN·s)", "peak F (MN)", "F̄ 1 ms (MN)", "F̄ 2 ms (MN)", "V bot (MN)", "V̄ bot 1 ms", "V̄ bot 2 ms", "A storey 3 drift (mm)"], rows))
+    print()
+    print("How many local modes, against the contact's own frequency ω_c = √(k_c/ρAh) (the contact spring on one modal mass): the FE's spread over 8–32 elements and the errors of (c) n against FE 32, for the 1 ms averages.\n")
+    rows = []
+    w1 = np.sqrt(EI / (RHOA * H**4))
+    for f in (1.0, 10.0, 100.0):
+        wc = np.sqrt(K_C * f / (RHOA * H))
+        n_rule = sum(1 for k in range(1, 40) if clamped_beta(k) ** 2 * w1 <= 2 * wc)
+        fe = [run("fe", 0.5, RHOA, n, kc_factor=f) for n in (8, 16, 32)]
+        ref = fe[-1]
+        row = [f"× {f:g}", f"{wc:.0f}", n_rule]
+        for k in ("F_avg", "V_bot_avg"):
+            row.append(pct((max(r[k] for r in fe) - min(r[k] for r in fe)) / ref[k]))
+            row += [pct(err(run("c", 0.5, RHOA, n, kc_factor=f), ref, k)) for n in (3, 5, 8)]
+        rows.append(row)
+    print(table(["k_c", "ω_c (rad/s)", "modes with ω_k ≤ 2ω_c", "F̄: FE spread", "F̄: (c) 3", "F̄: (c) 5", "F̄: (c) 8", "V̄ bot: FE spread", "V̄ bot: (c) 3", "V̄ bot: (c) 5", "V̄ bot: (c) 8"], rows))
     print()
 
 
@@ -340,7 +397,7 @@ def T8():
     print()
 
 
-ALL = {"T1": T1, "T2": T2, "T3": T3, "T3b": T3b, "T4": T4, "T5": T5, "T6": T6, "T7": T7, "T8": T8}
+ALL = {"T0": T0, "T1": T1, "T2": T2, "T3": T3, "T3b": T3b, "T3c": T3c, "T4": T4, "T5": T5, "T6": T6, "T7": T7, "T8": T8}
 
 
 def main(argv):
