@@ -195,7 +195,7 @@ def test_energy_and_momentum_of_an_undamped_impact(rhoA, n_e):
     # basis can hold: a relative error ε in the modes moves the energy (and the slab's
     # velocity) by ~ε·(ω_max/ω_min)² (the column's highest FE mode against the coupled system's
     # lowest), plus ~100ε for the re-projections at the events: 2e-14 with massless columns,
-    # 2e-9 with 6 consistent-mass elements (measured: 9e-15 and 3e-10). With distributed column
+    # 2e-9 with 6 consistent-mass elements (measured: 9e-15 and 2.5e-10). With distributed column
     # mass the contact chatters: several impacts, all of them logged, in order.
     model, x0, v0, res, nb = free_slab_case(rhoA, n_e)
     E = np.array([e for _, e in res.energy])
