@@ -31,6 +31,9 @@ err = Console(stderr=True, highlight=False, soft_wrap=True)
 
 ModelArg = Annotated[Path, typer.Argument(help="Model file (.toml or .json).", show_default=False)]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON document to stdout instead of tables.")]
+StrictOpt = Annotated[
+    bool, typer.Option("--strict", help="Plausibility warnings (a value legal but almost certainly wrong) are errors: exit 2.")
+]
 
 
 @contextmanager
@@ -90,6 +93,7 @@ def main_options(
 def validate(
     file: Annotated[Path, typer.Argument(help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
     json_: JsonOpt = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Check a model, record definition or sweep file and print what it resolves to."""
     from .model import read_document
@@ -101,16 +105,28 @@ def validate(
         if kind == "record":
             _validate_record(file, data, json_)
         elif kind == "sweep":
-            _validate_sweep(file, data, json_)
+            _validate_sweep(file, data, json_, strict)
         else:
-            _validate_model(file, data, json_)
+            _validate_model(file, data, json_, strict)
 
 
-def _validate_model(file: Path, data: dict[str, Any], json_: bool) -> None:
+def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
+    """Print plausibility warnings on stderr, one `FILE: field: message` line each; with
+    --strict raise them as the error (exit 2) instead."""
+    from .plausibility import Notice, strict_error
+
+    if strict and warnings:
+        raise strict_error([Notice(**w) for w in warnings])
+    for w in warnings:
+        err.print(f"{w['file']}: {w['field']}: {w['message']}", markup=False)
+
+
+def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
     from .api import describe
     from .model import validate_model
 
     info = describe(validate_model(data, file))
+    _warn(info["warnings"], strict)
     if json_:
         print(json.dumps(info, indent=2))
     else:
@@ -129,12 +145,14 @@ def _validate_record(file: Path, data: dict[str, Any], json_: bool) -> None:
         _print_record(summary)
 
 
-def _validate_sweep(file: Path, data: dict[str, Any], json_: bool) -> None:
+def _validate_sweep(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
     from .model import validate_sweep
     from .sweep import run_sweep
     from .sweep.progress import print_cases
 
-    outcome = run_sweep(validate_sweep(data, file), dry_run=True)
+    outcome = run_sweep(validate_sweep(data, file), dry_run=True, strict=strict)
+    for line in outcome.warnings:
+        err.print(line, markup=False)
     if json_:
         print(json.dumps([outcome.rows[i] for i in outcome.selected], indent=2, ensure_ascii=False))
     else:
@@ -160,6 +178,7 @@ def run(
         bool | None, typer.Option("--progress/--no-progress", help="Progress on stderr: a bar on a terminal, else a line per 10 % (default: on when stderr is a terminal).")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the run's inputs).")] = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
     import signal
@@ -171,7 +190,8 @@ def run(
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
         with _progress_bar(show) as bar:
-            result = run_model(model, output=target, progress=bar, force=force)
+            result = run_model(model, output=target, progress=bar, force=force, strict=strict,
+                               warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
         signal.signal(sig, signal.SIG_DFL)
     if note:
@@ -229,6 +249,7 @@ def sweep(
     force: Annotated[
         bool, typer.Option("--force", help="Write into an OUTPUT folder that a sweep did not create and that is not empty (its sweep.json, summary.* and cases/ are replaced; never the sweep's inputs).")
     ] = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Run a parametric sweep."""
     from .sweep.progress import SweepProgress, print_cases, print_outcome
@@ -251,9 +272,11 @@ def sweep(
             outcome = run_sweep(
                 sweep_file, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file,
                 studies=study, dry_run=dry_run, on_row=emit if json_ and not dry_run else None,
-                on_progress=bar.update, log=bar.log, force=force,
+                on_progress=bar.update, log=bar.log, force=force, strict=strict,
             )  # fmt: skip
     if dry_run:
+        for line in outcome.warnings:
+            err.print(line, markup=False)
         if json_:
             for i in outcome.selected:
                 emit(outcome.rows[i])
@@ -646,6 +669,7 @@ def run_summary(result: Any) -> dict[str, Any]:
         "peak_impact_force_N": result.contact.peak_force,
         "contact_steps": d.get("contact_steps", 0),
         "buildings": buildings,
+        "warnings": result.warnings,
     }
 
 

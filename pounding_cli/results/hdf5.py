@@ -103,6 +103,19 @@ def _write(f: h5py.File, r: RunResult) -> None:
     diag = f.create_group("diagnostics")
     for key, value in r.diagnostics.items():
         diag.attrs[key] = value
+    _write_warnings(diag, r.warnings)
+
+
+WARNING_DTYPE = np.dtype([("file", h5py.string_dtype()), ("field", h5py.string_dtype()), ("message", h5py.string_dtype())])
+
+
+def _write_warnings(g: h5py.Group, warnings: list[dict[str, str]]) -> None:
+    """/diagnostics/warnings: the run's plausibility warnings, one row each (none: 0 rows)."""
+    rows = np.array([(w["file"], w["field"], w["message"]) for w in warnings], dtype=WARNING_DTYPE)
+    ds = g.create_dataset("warnings", data=rows, track_times=False)
+    ds.attrs["units"] = "-, -, -"
+    ds.attrs["description"] = ("plausibility warnings (pounding_cli.plausibility): the file, the model field "
+                               "and what is odd about its value; the run went ahead")  # fmt: skip
 
 
 def _pause_for_tests() -> None:
@@ -220,7 +233,15 @@ def read_hdf5(path: str | Path) -> RunResult:
             diagnostics={k: _plain(v) for k, v in f["diagnostics"].attrs.items()},
             output=path,
             contact=_read_contact(f["impacts"]),
+            warnings=_read_warnings(f["diagnostics"]),
         )
+
+
+def _read_warnings(g: h5py.Group) -> list[dict[str, str]]:
+    """The plausibility warnings of /diagnostics/warnings (none in files written before it)."""
+    if "warnings" not in g:
+        return []
+    return [{k: _plain(row[k]) for k in WARNING_DTYPE.names} for row in g["warnings"][()]]
 
 
 def _read_contact(g: h5py.Group) -> ContactResult:
