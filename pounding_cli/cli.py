@@ -545,6 +545,40 @@ def report(
             out.print(rich_table(spec), soft_wrap=False)
 
 
+@app.command(
+    help="Write a result file's histories, peaks and impact log as tidy CSV files.\n\n"
+    "One file per quantity, DIR/<quantity>.csv: a header row naming each column with its unit "
+    "in brackets (time [s], u_x [m]), then one row per observation (per time, building and floor "
+    "for a history; per column and storey for the peak deflections; per contact episode for the "
+    "impact log), for pandas and spreadsheets. --what picks quantities or groups of them "
+    "(histories, peaks, all; default all). The files are written together and renamed into "
+    "place at the end; existing ones are replaced only with --force. --json describes what was "
+    "written (file, rows, columns with units).",
+    epilog="Examples:\n\n  pound export out.h5 --csv csv/\n\n  pound export out.h5 --csv csv/ --what peaks --what impacts --json",
+)
+def export(
+    result: Annotated[Path, typer.Argument(metavar="FILE", help="Result file written by `pound run` (.h5).", show_default=False)],
+    csv_dir: Annotated[Path, typer.Option("--csv", metavar="DIR", help="Folder for the CSV files (made if missing).", show_default=False)],
+    what: Annotated[
+        list[str] | None,
+        typer.Option("--what", metavar="QUANTITY", help="A quantity (displacement, velocity, acceleration, ground, energy, "
+                     "contact, yielding, interstorey_peaks, floor_peaks, impacts) or group (histories, peaks, all); repeatable."),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite CSV files that exist (never the result file).")] = False,
+    json_: JsonOpt = False,
+) -> None:
+    """Write a result file's quantities as CSV files."""
+    from .export import export_csv
+
+    with reported():
+        written = export_csv(result, csv_dir, what, force=force)
+    if json_:
+        print(json.dumps({"result": str(result), "folder": str(csv_dir), "files": written}, indent=2, ensure_ascii=False))
+        return
+    for w in written:
+        err.print(f"wrote {w['file']} ({w['rows']:,} row{'' if w['rows'] == 1 else 's'})", markup=False)
+
+
 def _refuse_reading_what_is_written(paths: list[Path], outputs: list[Path | None]) -> None:
     """A report file (--html, --animate) must not be a file it reports on (a result file, a
     sweep's summary): writing it would destroy the results."""
