@@ -34,9 +34,10 @@ _EXPORTS = {
     "RunResult": "results",
     "read_hdf5": "results",
     "write_hdf5": "results",
+    "run_sweep": "sweep",
 }
 _SUBMODULES = {"api", "assembly", "cli", "errors", "export", "model", "plausibility", "records", "results", "schema",
-               "solver"}
+               "solver", "sweep"}
 
 __all__ = ["__version__", *_EXPORTS]
 
@@ -46,6 +47,7 @@ if TYPE_CHECKING:
     from .export import export_csv
     from .model import LoadedModel, PoundModel, load_model
     from .results import RunResult, read_hdf5, write_hdf5
+    from .sweep import run_sweep
 
 
 def __getattr__(name: str) -> Any:
