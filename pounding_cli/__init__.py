@@ -21,6 +21,7 @@ __version__ = "0.1.0"
 
 _EXPORTS = {
     "describe": "api",
+    "export_csv": "export",
     "prepare": "api",
     "run_model": "api",
     "AnalysisFailed": "errors",
@@ -33,16 +34,20 @@ _EXPORTS = {
     "RunResult": "results",
     "read_hdf5": "results",
     "write_hdf5": "results",
+    "run_sweep": "sweep",
 }
-_SUBMODULES = {"api", "assembly", "cli", "errors", "model", "records", "results", "schema", "solver"}
+_SUBMODULES = {"api", "assembly", "cli", "errors", "export", "model", "plausibility", "records", "results", "schema",
+               "solver", "sweep"}
 
 __all__ = ["__version__", *_EXPORTS]
 
 if TYPE_CHECKING:
     from .api import describe, prepare, run_model
     from .errors import AnalysisFailed, InputError, PoundError, RecordReadError
+    from .export import export_csv
     from .model import LoadedModel, PoundModel, load_model
     from .results import RunResult, read_hdf5, write_hdf5
+    from .sweep import run_sweep
 
 
 def __getattr__(name: str) -> Any:

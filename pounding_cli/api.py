@@ -19,7 +19,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import __version__, limits
+from . import __version__, limits, plausibility
 from .assembly import (
     ContactArrays,
     GroundMotion,
@@ -38,6 +38,7 @@ from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
 from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
 from .outputs import claim, output_file, refuse_inputs
+from .plausibility import Notice
 from .model import Analysis, LoadedModel, load_model
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
@@ -60,6 +61,7 @@ class Scene:
     ground: GroundMotion
     grid: TimeGrid
     regrid: Callable[[float], TimeGrid] | None = None  # the grid for a likely contact ω (rad/s): Δt auto
+    notices: tuple[Notice, ...] = ()  # plausibility warnings (pounding_cli.plausibility)
 
 
 def prepare(model: str | Path | LoadedModel) -> Scene:
@@ -79,6 +81,7 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
         ground = ground_motion(loaded)
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
+    scene = replace(scene, notices=tuple(plausibility.notices(scene)))  # before the limits: they blame them
     setup = replace(setup, pairs=contact.n_pairs, exact=grid.substep > 0)
     limits.check_run(resource_run(scene), resource_size(scene), loaded.source, setup,
                      grid.free_steps(ground.dt) if grid.substep else 0)  # fmt: skip
@@ -148,6 +151,9 @@ def resource_run(scene: Scene) -> limits.Run:
     rate, rb, mode, zeta = system.fastest_rate()
     overdamped = (rb, system.buildings[rb].name, mode, zeta, rate) if rate > 1.000001 * max(omegas) else None
     field = scene.contact.stiffness_field(scene.contact.cause_step)
+    pair = scene.contact.cause_step[0]
+    names = [b.name for b in system.buildings]
+    bodies = ((scene.contact.pairs[pair].body_a, scene.contact.pairs[pair].body_b) if pair >= 0 else ())
     return limits.Run(
         dt=grid.dt, n_steps=grid.n_steps, n_outputs=grid.n_outputs, output_interval=grid.output_interval,
         duration=grid.duration, record_duration=scene.ground.duration,
@@ -158,6 +164,8 @@ def resource_run(scene: Scene) -> limits.Run:
         stiffest=(b, system.buildings[b].name),
         overdamped=overdamped, contact_field=field,
         contact_auto=field.startswith("contact.") and getattr(scene.loaded.model.contact, field[8:]) == "auto",
+        contact_buildings=tuple(names.index(n) for n in bodies if n in names),
+        suspects=tuple((n.field, n.message) for n in scene.notices if n.shortens_step),
     )  # fmt: skip
 
 
@@ -347,6 +355,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             "duration_s": grid.duration,
             "outputs": grid.n_outputs,
         },
+        "warnings": [n.as_dict() for n in scene.notices],
     }
 
 
@@ -410,9 +419,15 @@ def run_model(
     output: str | Path | None = None,
     progress: Callable[[int, int], None] | None = None,
     force: bool = False,
+    strict: bool = False,
+    warn: Callable[[Notice], None] | None = None,
 ) -> RunResult:
     """Run one analysis; write the HDF5 file if `output` is given (also for a failed run,
     marked by its status). Check `result.complete`.
+
+    Plausibility warnings (pounding_cli.plausibility) are passed to `warn` before the run
+    and kept in `result.warnings` and the file; with `strict` they are an InputError
+    instead, before anything runs or is written.
 
     `output` ending in "/" (or naming a folder) is a folder: the file is the model's name
     with .h5 inside it. An output that is one of the run's inputs is refused, with --force
@@ -423,6 +438,10 @@ def run_model(
     by the signal (interrupts)."""
     with terminate_as_interrupt():
         scene = prepare(model)
+        if strict and scene.notices:
+            raise plausibility.strict_error(list(scene.notices))
+        for notice in scene.notices if warn is not None else ():
+            warn(notice)
         if output is None:
             return execute(scene, None, progress)
         path, _ = output_file(output, default_output(scene.loaded).name)
@@ -509,6 +528,7 @@ def execute(
         system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics, scene.contact
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
+    result.warnings = [n.as_dict() for n in scene.notices]
     if output is not None:
         write_results(result, Path(output))
     return result

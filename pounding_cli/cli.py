@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Annotated, Any, Iterator
 
 import typer
-from rich.console import Console
+from rich.console import Console, ConsoleDimensions
 from rich.markup import escape
 from rich.table import Table
 
@@ -22,15 +22,63 @@ from . import __version__
 from .atomic import write_text
 from .errors import PoundError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False)
-# plain lines are never hard-wrapped (a script reading stdout sees each one on its line);
-# tables are printed with soft_wrap=False, at the console's width
-out = Console(highlight=False, soft_wrap=True)
-# messages are never hard-wrapped: a script that greps stderr sees each one on its line
-err = Console(stderr=True, highlight=False, soft_wrap=True)
+app = typer.Typer(no_args_is_help=True, pretty_exceptions_enable=False)
 
-ModelArg = Annotated[Path, typer.Argument(help="Model file (.toml or .json).", show_default=False)]
+
+def _examples(*commands: str) -> str:
+    """The end of a command's --help: its examples, one command a line."""
+    return "Examples:\n\n" + "\n\n".join(f"  {c}" for c in commands)
+
+
+def _no_python_types(display: Any) -> Any:
+    """typer's help prints each parameter's Python type (<bool>, <path>, <list[Path]>): pound's
+    name what they take by their metavar (FILE, DIR, N, URL), shown in its place; an argument's
+    metavar is its name already, and a flag takes nothing."""
+
+    def display_type_rich(self: Any, ctx: Any) -> str | None:
+        if isinstance(self, typer.core.TyperArgument) or (getattr(self, "is_flag", False) and self.metavar is None):
+            return None
+        return display(self, ctx)
+
+    return display_type_rich
+
+
+for _kind in ("TyperOption", "TyperArgument"):  # absent from another typer: its help stays as it prints it
+    if hasattr(getattr(typer.core, _kind, None), "display_type_rich"):
+        _cls = getattr(typer.core, _kind)
+        _cls.display_type_rich = _no_python_types(_cls.display_type_rich)
+
+PIPE_WIDTH = 10_000
+"""Columns of a console that is not a terminal (a pipe, a file): wider than any table pound
+prints, so that a table is as wide as its content and never cut or wrapped to 80 columns."""
+
+
+class _Console(Console):
+    """A rich console at the terminal's width, or at PIPE_WIDTH when it writes to a pipe or a
+    file, whatever COLUMNS says (checked at each print: the streams may be replaced, as tests
+    do)."""
+
+    @property
+    def size(self) -> ConsoleDimensions:
+        size = Console.size.fget(self)  # type: ignore[attr-defined]
+        return size if self.is_terminal else ConsoleDimensions(PIPE_WIDTH, size.height)  # COLUMNS too: no cut
+
+    @size.setter
+    def size(self, new_size: tuple[int, int]) -> None:
+        Console.size.fset(self, new_size)  # type: ignore[attr-defined]
+
+
+# plain lines are never hard-wrapped (a script reading stdout sees each one on its line);
+# tables are printed with soft_wrap=False, at the terminal's width, or whole to a pipe or file
+out = _Console(highlight=False, soft_wrap=True)
+# messages are never hard-wrapped: a script that greps stderr sees each one on its line
+err = _Console(stderr=True, highlight=False, soft_wrap=True)
+
+ModelArg = Annotated[Path, typer.Argument(metavar="FILE", help="Model file (.toml or .json).", show_default=False)]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON document to stdout instead of tables.")]
+StrictOpt = Annotated[
+    bool, typer.Option("--strict", help="Plausibility warnings (a value legal but almost certainly wrong) are errors: exit 2.")
+]
 
 
 @contextmanager
@@ -68,7 +116,8 @@ def _version(show: bool) -> None:
 @app.callback(
     help="Simulate earthquake-induced pounding between adjacent buildings in 3D.\n\n"
     "Exit codes: 0 success, 1 the analysis failed (partial results kept and marked), "
-    "2 bad input or usage."
+    "2 bad input or usage. Shell completion: pound --install-completion.",
+    epilog=_examples("pound validate inputs/paper_pounding.toml", "pound run inputs/paper_pounding.toml -o out.h5"),
 )
 def main_options(
     version: Annotated[
@@ -85,11 +134,13 @@ def main_options(
     "the time step, which limit sets it and the steps the integrator will take. A record "
     "definition (components L and T, no buildings): what `pound record` prints of it. A sweep "
     "file (it names a base model): every case checked and listed, as `pound sweep --dry-run` "
-    "lists them. --json prints the same as one JSON document."
+    "lists them. --json prints the same as one JSON document.",
+    epilog=_examples("pound validate inputs/paper_pounding.toml", "pound validate model.toml --json --strict"),
 )
 def validate(
-    file: Annotated[Path, typer.Argument(help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
+    file: Annotated[Path, typer.Argument(metavar="FILE", help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
     json_: JsonOpt = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Check a model, record definition or sweep file and print what it resolves to."""
     from .model import read_document
@@ -101,16 +152,28 @@ def validate(
         if kind == "record":
             _validate_record(file, data, json_)
         elif kind == "sweep":
-            _validate_sweep(file, data, json_)
+            _validate_sweep(file, data, json_, strict)
         else:
-            _validate_model(file, data, json_)
+            _validate_model(file, data, json_, strict)
 
 
-def _validate_model(file: Path, data: dict[str, Any], json_: bool) -> None:
+def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
+    """Print plausibility warnings on stderr, one `FILE: field: message` line each; with
+    --strict raise them as the error (exit 2) instead."""
+    from .plausibility import Notice, strict_error
+
+    if strict and warnings:
+        raise strict_error([Notice(**w) for w in warnings])
+    for w in warnings:
+        err.print(f"{w['file']}: {w['field']}: {w['message']}", markup=False)
+
+
+def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
     from .api import describe
     from .model import validate_model
 
     info = describe(validate_model(data, file))
+    _warn(info["warnings"], strict)
     if json_:
         print(json.dumps(info, indent=2))
     else:
@@ -129,12 +192,14 @@ def _validate_record(file: Path, data: dict[str, Any], json_: bool) -> None:
         _print_record(summary)
 
 
-def _validate_sweep(file: Path, data: dict[str, Any], json_: bool) -> None:
+def _validate_sweep(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
     from .model import validate_sweep
     from .sweep import run_sweep
     from .sweep.progress import print_cases
 
-    outcome = run_sweep(validate_sweep(data, file), dry_run=True)
+    outcome = run_sweep(validate_sweep(data, file), dry_run=True, strict=strict)
+    for line in outcome.warnings:
+        err.print(line, markup=False)
     if json_:
         print(json.dumps([outcome.rows[i] for i in outcome.selected], indent=2, ensure_ascii=False))
     else:
@@ -146,13 +211,14 @@ def _validate_sweep(file: Path, data: dict[str, Any], json_: bool) -> None:
     "Time histories, peak interstorey deflections of every column, the energy balance. "
     "A run that fails (diverges, is interrupted by Ctrl-C or SIGTERM) still writes its partial "
     "results, marked in the file's status, and exits 1. An existing output file is not "
-    "overwritten without --force; a missing output folder is created."
+    "overwritten without --force; a missing output folder is created.",
+    epilog=_examples("pound run inputs/paper_pounding.toml -o out.h5", "pound run model.toml -o results/ --json --strict"),
 )
 def run(
     model: ModelArg,
     output: Annotated[
         str | None,
-        typer.Option("-o", "--output", help="HDF5 result file (default: the model's name with .h5, in the current "
+        typer.Option("-o", "--output", metavar="FILE", help="HDF5 result file (default: the model's name with .h5, in the current "
                      "folder); a name ending in / is a folder, written into with that default name."),
     ] = None,
     json_: JsonOpt = False,
@@ -160,6 +226,7 @@ def run(
         bool | None, typer.Option("--progress/--no-progress", help="Progress on stderr: a bar on a terminal, else a line per 10 % (default: on when stderr is a terminal).")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the run's inputs).")] = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
     import signal
@@ -171,7 +238,8 @@ def run(
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
         with _progress_bar(show) as bar:
-            result = run_model(model, output=target, progress=bar, force=force)
+            result = run_model(model, output=target, progress=bar, force=force, strict=strict,
+                               warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
         signal.signal(sig, signal.SIG_DFL)
     if note:
@@ -192,7 +260,7 @@ def run(
 
 @app.command(
     help="Run many analyses of one base model in parallel: a parametric sweep.\n\n"
-    "SWEEP is a sweep file (.toml or .json: docs/sweep.md): a base model and the values its "
+    "FILE is a sweep file (.toml or .json: docs/sweep.md): a base model and the values its "
     "fields take, as named cases and/or a grid or zip of parameters, in one study or several. "
     "Every case is checked before any runs; a bad path or value exits 2 naming the case and "
     "the field. Each case's results go to OUTPUT/cases/<hash>.h5 (as `pound run` writes them), "
@@ -201,31 +269,32 @@ def run(
     "while a development install's code changes: after updating or changing pound, give a fresh "
     "OUTPUT). OUTPUT must be new, empty or a sweep's own (it holds a .pound-sweep marker); another "
     "folder needs --force. Runs on local processes (--jobs, default all cores) or a Dask cluster "
-    "(--scheduler, --scheduler-file). Exits 1 if a case failed."
+    "(--scheduler, --scheduler-file). Exits 1 if a case failed.",
+    epilog=_examples("pound sweep inputs/pounding_angle_gap.sweep.toml -o angle_gap/ --jobs 4", "pound sweep study.sweep.toml --dry-run"),
 )
 def sweep(
-    sweep_file: Annotated[Path, typer.Argument(metavar="SWEEP", help="Sweep file (.toml or .json).", show_default=False)],
+    sweep_file: Annotated[Path, typer.Argument(metavar="FILE", help="Sweep file (.toml or .json).", show_default=False)],
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", help="Output folder (default: the sweep file's name without .sweep.toml, in the current folder)."),
+        typer.Option("-o", "--output", metavar="DIR", help="Output folder (default: the sweep file's name without .sweep.toml, in the current folder)."),
     ] = None,
     jobs: Annotated[
-        int | None, typer.Option("-j", "--jobs", help="Local worker processes, one case and one thread each (default: all cores).")
+        int | None, typer.Option("-j", "--jobs", metavar="N", help="Local worker processes, one case and one thread each (default: all cores).")
     ] = None,
     scheduler: Annotated[
-        str | None, typer.Option("--scheduler", help="Run on the Dask scheduler at this address, e.g. tcp://host:8786.")
+        str | None, typer.Option("--scheduler", metavar="URL", help="Run on the Dask scheduler at this address, e.g. tcp://host:8786.")
     ] = None,
     scheduler_file: Annotated[
-        Path | None, typer.Option("--scheduler-file", help="Run on the Dask scheduler described in this file (dask scheduler --scheduler-file).")
+        Path | None, typer.Option("--scheduler-file", metavar="FILE", help="Run on the Dask scheduler described in this file (dask scheduler --scheduler-file).")
     ] = None,
     study: Annotated[
-        list[str] | None, typer.Option("--study", help="Run only this study (repeatable); every case is still checked and listed.")
+        list[str] | None, typer.Option("--study", metavar="NAME", help="Run only this study (repeatable); every case is still checked and listed.")
     ] = None,
     dry_run: Annotated[
         bool, typer.Option("--dry-run", help="Check every case and list it (hash, status, values) without running or writing anything.")
     ] = False,
     json_: Annotated[
-        bool, typer.Option("--json", help="Print one JSON object per case on stdout as it finishes: its summary row.")
+        bool, typer.Option("--json", help="Print JSON Lines on stdout: one JSON object (a case's summary row) per line, as each case finishes; with --dry-run, each case as listed.")
     ] = False,
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar on stderr (default: when stderr is a terminal).")
@@ -233,6 +302,7 @@ def sweep(
     force: Annotated[
         bool, typer.Option("--force", help="Write into an OUTPUT folder that a sweep did not create and that is not empty (its sweep.json, summary.* and cases/ are replaced; never the sweep's inputs).")
     ] = False,
+    strict: StrictOpt = False,
 ) -> None:
     """Run a parametric sweep."""
     from .sweep.progress import SweepProgress, print_cases, print_outcome
@@ -255,9 +325,11 @@ def sweep(
             outcome = run_sweep(
                 sweep_file, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file,
                 studies=study, dry_run=dry_run, on_row=emit if json_ and not dry_run else None,
-                on_progress=bar.update, log=bar.log, force=force,
+                on_progress=bar.update, log=bar.log, force=force, strict=strict,
             )  # fmt: skip
     if dry_run:
+        for line in outcome.warnings:
+            err.print(line, markup=False)
         if json_:
             for i in outcome.selected:
                 emit(outcome.rows[i])
@@ -271,10 +343,11 @@ def sweep(
 
 @app.command(
     help="Write the JSON Schemas of the input files.\n\n"
-    "They are generated from the pydantic models that validate the files."
+    "They are generated from the pydantic models that validate the files.",
+    epilog=_examples("pound schema --out schemas", "pound schema --check"),
 )
 def schema(
-    out_dir: Annotated[Path, typer.Option("--out", help="Folder to write the schemas into.")] = Path("schemas"),
+    out_dir: Annotated[Path, typer.Option("--out", metavar="DIR", help="Folder to write the schemas into.")] = Path("schemas"),
     check: Annotated[bool, typer.Option("--check", help="Write nothing; exit 1 if the files differ.")] = False,
 ) -> None:
     """Write the JSON Schemas of the input files."""
@@ -302,27 +375,28 @@ def schema(
     "scaling) or a record file in any format pound reads (PEER .AT2, CSMIP/COSMOS V1/V2, "
     "MiniSEED, SAC, K-NET, plain text: every trace, as read). Prints Δt, points, duration, "
     "PGA, PGV, PGD (the acceleration integrated exactly as linear between samples, from rest), "
-    "Arias intensity and the 5-95 % significant duration of each component."
+    "Arias intensity and the 5-95 % significant duration of each component.",
+    epilog=_examples("pound record inputs/ridgecrest2019_ccc.record.toml --plot ccc.png", "pound record inputs/records/CICCC.RAW --trace HNE --json"),
 )
 def record(
-    file: Annotated[Path, typer.Argument(help="Record definition (.toml, .json) or record file.", show_default=False)],
+    file: Annotated[Path, typer.Argument(metavar="FILE", help="Record definition (.toml, .json) or record file.", show_default=False)],
     trace: Annotated[
-        str | None, typer.Option("--trace", help="Record file: the one trace to describe (SEED id, channel code or index).")
+        str | None, typer.Option("--trace", metavar="ID", help="Record file: the one trace to describe (SEED id, channel code or index).")
     ] = None,
     units: Annotated[
         str | None,
-        typer.Option("--units", help="Record file: units of its values (g, m/s2, cm/s2, gal), for files that do not declare them."),
+        typer.Option("--units", metavar="UNIT", help="Record file: units of its values (g, m/s2, cm/s2, gal), for files that do not declare them."),
     ] = None,
     format: Annotated[
-        str, typer.Option("--format", help="Record file: auto, text, or an obspy format name (MSEED, SAC, AT2, COSMOS, KNET).")
+        str, typer.Option("--format", metavar="FORMAT", help="Record file: auto, text, or an obspy format name (MSEED, SAC, AT2, COSMOS, KNET).")
     ] = "auto",
     dt: Annotated[
-        float | None, typer.Option("--dt", help="Record file: sample interval in s, for plain text with one value per line.")
+        float | None, typer.Option("--dt", metavar="SECONDS", help="Record file: sample interval in s, for plain text with one value per line.")
     ] = None,
     json_: JsonOpt = False,
     plot: Annotated[
         Path | None,
-        typer.Option("--plot", help="Also draw acceleration, velocity, displacement and the 5 %-damped PSA spectrum (.png, .pdf, .svg)."),
+        typer.Option("--plot", metavar="FILE", help="Also draw acceleration, velocity, displacement and the 5 %-damped PSA spectrum (.png, .pdf, .svg)."),
     ] = None,
 ) -> None:
     """Describe a ground-motion record."""
@@ -354,15 +428,16 @@ def record(
     "then each integrator setting, timed (median of --repeats, solver only) and compared with "
     "the reference. Prints the table and writes bench.h5, bench.md and bench.png into --out. "
     "--quick: a short version (three settings, the first 15 s, one repeat); docs/bench.md gives "
-    "how long it took."
+    "how long it took.",
+    epilog=_examples("pound bench --quick --out bench-results", "pound bench --stability"),
 )
 def bench(
-    scene: Annotated[list[Path] | None, typer.Option("--scene", help="A model file to bench (repeatable).")] = None,
-    out_dir: Annotated[Path, typer.Option("--out", help="Folder for bench.h5, bench.md, bench.png.")] = Path("bench-results"),
+    scene: Annotated[list[Path] | None, typer.Option("--scene", metavar="FILE", help="A model file to bench (repeatable).")] = None,
+    out_dir: Annotated[Path, typer.Option("--out", metavar="DIR", help="Folder for bench.h5, bench.md, bench.png.")] = Path("bench-results"),
     quick: Annotated[
         bool, typer.Option("--quick", help="Three settings, the first 15 s of each scene but the stiff one, one repeat.")
     ] = False,
-    repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per setting (median).", min=1)] = 3,
+    repeats: Annotated[int, typer.Option("--repeats", metavar="N", help="Timed runs per setting (median).", min=1)] = 3,
     stability: Annotated[
         bool, typer.Option("--stability", help="Run the stability stress cases instead (stability.md).")
     ] = False,
@@ -439,48 +514,49 @@ def bench(
 
 @app.command(
     help="Report on runs or a sweep: tables, plots, a plan-view animation, an HTML file.\n\n"
-    "PATHS are result files written by `pound run`, or one sweep folder written by `pound sweep`. "
+    "The arguments are result files written by `pound run`, or one sweep folder written by `pound sweep`. "
     "For runs: the model, record, integrator, Δt, run time, periods, impacts, peak interstorey "
     "deflections per storey (with the column) and the energy balance; --plots writes the ground "
     "motion, floor displacements, deflection profiles (all files on one figure), impacts, energy "
     "balance and plan view; --animate a plan-view GIF or MP4. For a sweep: its summary table; "
     "--plots draws summary columns against a swept parameter (also polar for an angle) and "
     "grouped bars of cases. A failed run or case says so at the top. --json prints one JSON "
-    "document (a list of them for several files); --html writes everything into one file."
+    "document (a list of them for several files); --html writes everything into one file.",
+    epilog=_examples("pound report out.h5 --plots plots/ --html report.html", "pound report angle_gap/ --plots plots/ --x excitation.angle"),
 )
 def report(
-    paths: Annotated[list[Path], typer.Argument(help="Result files (.h5), or one sweep folder.", show_default=False)],
+    paths: Annotated[list[Path], typer.Argument(metavar="FILE|DIR", help="Result files (.h5), or one sweep folder.", show_default=False)],
     json_: JsonOpt = False,
     column: Annotated[
-        str | None, typer.Option("--column", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
+        str | None, typer.Option("--column", metavar="COLUMN", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
     ] = None,
-    plots: Annotated[Path | None, typer.Option("--plots", help="Write every plot into this folder.")] = None,
-    format: Annotated[str, typer.Option("--format", help="Plot format: png, svg or pdf (HTML: png or svg).")] = "png",
-    html: Annotated[Path | None, typer.Option("--html", help="Write one self-contained HTML report (tables and plots).")] = None,
+    plots: Annotated[Path | None, typer.Option("--plots", metavar="DIR", help="Write every plot into this folder.")] = None,
+    format: Annotated[str, typer.Option("--format", metavar="FORMAT", help="Plot format: png, svg or pdf (HTML: png or svg).")] = "png",
+    html: Annotated[Path | None, typer.Option("--html", metavar="FILE", help="Write one self-contained HTML report (tables and plots).")] = None,
     floor: Annotated[
         list[str] | None,
-        typer.Option("--floor", help="Runs: floor for the displacement plot, building:floor (left:4; repeatable; default each roof)."),
+        typer.Option("--floor", metavar="BUILDING:FLOOR", help="Runs: floor for the displacement plot, building:floor (left:4; repeatable; default each roof)."),
     ] = None,
     magnify: Annotated[
-        float | None, typer.Option("--magnify", help="Runs: displacement factor of plan views (default: a round factor, stated).", min=0.0)
+        float | None, typer.Option("--magnify", metavar="FACTOR", help="Runs: displacement factor of plan views (default: a round factor, stated).", min=0.0)
     ] = None,
-    animate: Annotated[Path | None, typer.Option("--animate", help="Runs: write a plan-view animation (.gif, or .mp4 with ffmpeg).")] = None,
+    animate: Annotated[Path | None, typer.Option("--animate", metavar="FILE", help="Runs: write a plan-view animation (.gif, or .mp4 with ffmpeg).")] = None,
     level: Annotated[
-        int | None, typer.Option("--level", help="Animate one level (1 = lowest floor elevation; default all).", min=1)
+        int | None, typer.Option("--level", metavar="N", help="Animate one level (1 = lowest floor elevation; default all).", min=1)
     ] = None,
-    start: Annotated[float | None, typer.Option("--start", help="Animation window start, s (default: 6 s around the peak impact).")] = None,
-    end: Annotated[float | None, typer.Option("--end", help="Animation window end, s.")] = None,
-    stride: Annotated[int | None, typer.Option("--stride", help="Stored samples per animation frame (default: fit --max-frames).", min=1)] = None,
-    max_frames: Annotated[int, typer.Option("--max-frames", help="Most animation frames.", min=1)] = 120,
-    fps: Annotated[int, typer.Option("--fps", help="Animation frames per second.", min=1)] = 12,
-    x: Annotated[str | None, typer.Option("--x", help="Sweep: the swept parameter on the x axis (default: the first numeric one).")] = None,
+    start: Annotated[float | None, typer.Option("--start", metavar="SECONDS", help="Animation window start, s (default: 6 s around the peak impact).")] = None,
+    end: Annotated[float | None, typer.Option("--end", metavar="SECONDS", help="Animation window end, s.")] = None,
+    stride: Annotated[int | None, typer.Option("--stride", metavar="N", help="Stored samples per animation frame (default: fit --max-frames).", min=1)] = None,
+    max_frames: Annotated[int, typer.Option("--max-frames", metavar="N", help="Most animation frames.", min=1)] = 120,
+    fps: Annotated[int, typer.Option("--fps", metavar="N", help="Animation frames per second.", min=1)] = 12,
+    x: Annotated[str | None, typer.Option("--x", metavar="PARAMETER", help="Sweep: the swept parameter on the x axis (default: the first numeric one).")] = None,
     y: Annotated[
-        list[str] | None, typer.Option("--y", help="Sweep: summary columns to plot against --x (patterns: 'peak_isd_x_m[left/*/1]'; repeatable).")
+        list[str] | None, typer.Option("--y", metavar="COLUMN", help="Sweep: summary columns to plot against --x (patterns: 'peak_isd_x_m[left/*/1]'; repeatable).")
     ] = None,
     case: Annotated[
-        list[str] | None, typer.Option("--case", help="Sweep: cases for the bar chart, 'study/case' patterns (repeatable).")
+        list[str] | None, typer.Option("--case", metavar="PATTERN", help="Sweep: cases for the bar chart, 'study/case' patterns (repeatable).")
     ] = None,
-    study: Annotated[list[str] | None, typer.Option("--study", help="Sweep: report only this study (repeatable).")] = None,
+    study: Annotated[list[str] | None, typer.Option("--study", metavar="NAME", help="Sweep: report only this study (repeatable).")] = None,
 ) -> None:
     """Report on runs or a sweep."""
     from .report.outputs import Animation, check_options
@@ -524,6 +600,40 @@ def report(
             out.print(f"[bold red]{warning}[/bold red]")
         for spec in tables:
             out.print(rich_table(spec), soft_wrap=False)
+
+
+@app.command(
+    help="Write a result file's histories, peaks and impact log as tidy CSV files.\n\n"
+    "One file per quantity, DIR/<quantity>.csv: a header row naming each column with its unit "
+    "in brackets (time [s], u_x [m]), then one row per observation (per time, building and floor "
+    "for a history; per column and storey for the peak deflections; per contact episode for the "
+    "impact log), for pandas and spreadsheets. --what picks quantities or groups of them "
+    "(histories, peaks, all; default all). The files are written together and renamed into "
+    "place at the end; existing ones are replaced only with --force. --json describes what was "
+    "written (file, rows, columns with units).",
+    epilog=_examples("pound export out.h5 --csv csv/", "pound export out.h5 --csv csv/ --what peaks --what impacts --json"),
+)
+def export(
+    result: Annotated[Path, typer.Argument(metavar="FILE", help="Result file written by `pound run` (.h5).", show_default=False)],
+    csv_dir: Annotated[Path, typer.Option("--csv", metavar="DIR", help="Folder for the CSV files (made if missing).", show_default=False)],
+    what: Annotated[
+        list[str] | None,
+        typer.Option("--what", metavar="QUANTITY", help="A quantity (displacement, velocity, acceleration, ground, energy, "
+                     "contact, yielding, interstorey_peaks, floor_peaks, impacts) or group (histories, peaks, all); repeatable."),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite CSV files that exist (never the result file).")] = False,
+    json_: JsonOpt = False,
+) -> None:
+    """Write a result file's quantities as CSV files."""
+    from .export import export_csv
+
+    with reported():
+        written = export_csv(result, csv_dir, what, force=force)
+    if json_:
+        print(json.dumps({"result": str(result), "folder": str(csv_dir), "files": written}, indent=2, ensure_ascii=False))
+        return
+    for w in written:
+        err.print(f"wrote {w['file']} ({w['rows']:,} row{'' if w['rows'] == 1 else 's'})", markup=False)
 
 
 def _refuse_reading_what_is_written(paths: list[Path], outputs: list[Path | None]) -> None:
@@ -650,6 +760,7 @@ def run_summary(result: Any) -> dict[str, Any]:
         "peak_impact_force_N": result.contact.peak_force,
         "contact_steps": d.get("contact_steps", 0),
         "buildings": buildings,
+        "warnings": result.warnings,
     }
 
 
@@ -963,7 +1074,7 @@ def main() -> None:
     from .interrupts import InterruptedAfterWriting
 
     try:
-        app()
+        app(prog_name="pound")
     except InterruptedAfterWriting:
         raise  # the results have their final name: the signal's own end (interrupts.die_by), never exit 1
     except KeyboardInterrupt:

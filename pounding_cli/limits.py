@@ -319,6 +319,9 @@ class Run:
     # overdamped mode's decay rate ρ exceeds ω_max and bounds the hybrid's exact step
     contact_field: str = "contact.k_normal"  # the field that sets the contact the automatic step follows
     contact_auto: bool = False  # that field is "auto": the materials' elastic_modulus set it
+    contact_buildings: tuple[int, ...] = ()  # the buildings of the pair whose contact sets that step
+    suspects: tuple[tuple[str, str], ...] = ()  # (field, message) of the plausibility warnings of values that
+    # shorten the step (too light, too stiff): the likeliest cause, blamed before the step's own field
 
 
 def check_run(run: Run, size: Size, source: str | Path, setup: Setup | None = None, exact_steps: int = 0) -> None:
@@ -412,6 +415,10 @@ def _step_cause(run: Run, most: float) -> tuple[str, str]:
         )
     if run.contact_limit < run.structure_limit:
         field = run.contact_field
+        within = ["materials."] + [f"buildings[{b}]" for b in run.contact_buildings]  # the stiffness itself: below
+        if suspect := _suspect(run, within):
+            return suspect[0], (f'Δt = "auto" follows the stiffest contact (stability limit {run.contact_limit:.3g} '
+                                f"s), and {suspect[1]}")  # fmt: skip
         stiffness = field.rsplit(".", 1)[-1]
         unit = "N/m²" if stiffness == "k_normal" else "N/m"
         check = ("it is \"auto\": check the units of the materials' elastic_modulus (Pa)" if run.contact_auto
@@ -421,11 +428,20 @@ def _step_cause(run: Run, most: float) -> tuple[str, str]:
             f"{stiffness} sets; {check}"
         )
     b, name = run.stiffest
+    if suspect := _suspect(run, [f"buildings[{b}]", "materials."]):
+        return suspect[0], (f'Δt = "auto" follows the highest natural frequency of building {name!r} (stability '
+                            f"limit {run.structure_limit:.3g} s), and {suspect[1]}")  # fmt: skip
     return f"buildings[{b}]", (
         f'Δt = "auto" follows the highest natural frequency of building {name!r} (stability limit '
         f"{run.structure_limit:.3g} s); check the units of its column sections (m), storey heights (m), "
         "elastic_modulus (Pa) and masses (kg)"
     )
+
+
+def _suspect(run: Run, within: list[str]) -> tuple[str, str] | None:
+    """The first plausibility warning (field, message) of a value that shortens the step,
+    whose field starts with one of `within` (a building, the materials, a stiffness)."""
+    return next(((f, m) for f, m in run.suspects if any(f.startswith(w) for w in within)), None)
 
 
 def _sample_cause(run: Run, size: Size, estimate: float, most: float) -> tuple[str, str]:

@@ -27,18 +27,29 @@ def _published(schema: dict[str, Any], name: str) -> dict[str, Any]:
     return schema
 
 
+def _input_file(schema: dict[str, Any]) -> dict[str, Any]:
+    """An input file's schema: it may name the schema it follows under "$schema" (JSON, or a
+    TOML key; TOML files may use a `#:schema` comment instead), which pound ignores."""
+    schema["properties"] = {"$schema": {
+        "type": "string",
+        "description": "The JSON Schema this file follows, a URL or a path (for editors: VS Code, taplo); pound "
+                       "ignores it.",
+    }, **schema["properties"]}  # fmt: skip
+    return schema
+
+
 def model_schema() -> dict:
     """JSON Schema of a model file (TOML or JSON: same structure)."""
     from .model import PoundModel
 
-    return _published(PoundModel.model_json_schema(mode="validation"), "model.schema.json")
+    return _published(_input_file(PoundModel.model_json_schema(mode="validation")), "model.schema.json")
 
 
 def record_schema() -> dict:
     """JSON Schema of a record definition file (TOML or JSON: same structure)."""
     from .model.record import Record
 
-    return _published(Record.model_json_schema(mode="validation"), "record.schema.json")
+    return _published(_input_file(Record.model_json_schema(mode="validation")), "record.schema.json")
 
 
 def record_summary_schema() -> dict:
@@ -52,7 +63,7 @@ def sweep_schema() -> dict:
     """JSON Schema of a sweep file (TOML or JSON: same structure)."""
     from .model.sweep import SweepFile
 
-    return _published(SweepFile.model_json_schema(mode="validation"), "sweep.schema.json")
+    return _published(_input_file(SweepFile.model_json_schema(mode="validation")), "sweep.schema.json")
 
 
 def sweep_summary_schema() -> dict:

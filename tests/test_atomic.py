@@ -90,7 +90,7 @@ def short_result():
 def test_hdf5_writer_failing_midway(tmp_path, monkeypatch, short_result):
     from pounding_cli.results import hdf5
 
-    def half_written(group, contact):
+    def half_written(group, contact, *scales):
         group.create_dataset("events", data=np.zeros(3))  # something is in the file already
         raise Midway
 

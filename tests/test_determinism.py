@@ -54,12 +54,28 @@ def contents(path: Path) -> tuple[dict[str, np.ndarray], dict[str, dict]]:
     def visit(name: str, obj) -> None:
         if isinstance(obj, h5py.Dataset):
             datasets[name] = obj[()]
-        attrs[name] = {k: v for k, v in obj.attrs.items() if k not in TIMINGS}
+        attrs[name] = {k: referred(obj.file, v) for k, v in obj.attrs.items() if k not in TIMINGS}
 
     with h5py.File(path, "r") as f:
         attrs["/"] = dict(f.attrs)
         f.visititems(visit)
     return datasets, attrs
+
+
+def referred(f: h5py.File, value):
+    """An attribute holding object references (the dimension scales' DIMENSION_LIST and
+    REFERENCE_LIST) as the text of the names of the objects they point to, which two runs
+    must share; any other attribute as it is."""
+
+    def names(v):
+        if isinstance(v, h5py.Reference):
+            return f[v].name
+        if isinstance(v, (np.ndarray, np.void, tuple, list)):
+            return tuple(names(x) for x in (v.tolist() if isinstance(v, np.void) else v))
+        return v.item() if isinstance(v, np.generic) else v
+
+    holds_references = isinstance(value, np.ndarray) and (value.dtype == object or value.dtype.names)
+    return repr(names(value)) if holds_references else value
 
 
 def same_bits(a, b) -> bool:

@@ -82,12 +82,18 @@ def test_auto_step_too_small_names_the_stiff_building_or_the_contact():
     light = example_doc()
     light["contact"] = {"enabled": False}
     light["buildings"][1]["floors"][0]["mass_per_area"] = 1.0
-    assert re.search(r"buildings\[1\]: the analysis would take .* Δt = \"auto\" follows the highest natural frequency "
-                     r"of building 'right'", refusal(light, MAX_STEPS=1e6))  # fmt: skip
+    # the refusal names the implausible mass itself (a plausibility warning), not the whole building
+    assert re.search(r"buildings\[1\]\.floors\[0\]\.mass_per_area: the analysis would take .* Δt = \"auto\" follows "
+                     r"the highest natural frequency of building 'right' .*, and mass_per_area = 1 kg/m² is below",
+                     refusal(light, MAX_STEPS=1e6))  # fmt: skip
     stiff = example_doc()
     stiff["buildings"][1]["origin"] = [8.05, 0.0]
     stiff["contact"] = {"k_normal": 2.06e16}
     assert "contact.k_normal: the analysis would take" in refusal(stiff, MAX_STEPS=1e6)
+    plausible = example_doc()  # a plausible building beyond the limit: the building, whose inputs to check
+    plausible["contact"] = {"enabled": False}
+    assert re.search(r"buildings\[1\]: the analysis would take .* check the units of its column sections",
+                     refusal(plausible, MAX_STEPS=1e3))  # fmt: skip
 
 
 def test_the_step_limit_refuses_about_a_billion_steps_and_accepts_below_the_limit():

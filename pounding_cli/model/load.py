@@ -6,6 +6,7 @@ Every problem becomes an :class:`~pounding_cli.errors.InputError` whose text rea
 
 from __future__ import annotations
 
+import datetime
 import difflib
 import json
 import re
@@ -72,7 +73,25 @@ def read_document(path: str | Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise InputError(f"expected a table of settings at the top, got a {type(data).__name__}", file=path)
     _refuse_markers(data, path)
+    if suffix == ".toml":
+        _dates_as_text(data)
     return data
+
+
+def _dates_as_text(data: dict[str, Any]) -> None:
+    """Replace, in place, every TOML date, date-time and time (tomllib gives datetime objects)
+    by its RFC 3339 / ISO 8601 text, e.g. 1995-01-17 -> "1995-01-17": wherever pound takes
+    text (a record's `date`), an unquoted TOML date is the same as the quoted one, and a
+    number field says it got text (iterative, as a document may be nested deeply)."""
+    stack: list[Any] = [data]
+    while stack:
+        node = stack.pop()
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+        for key, value in list(items):
+            if isinstance(value, (datetime.date, datetime.time)):  # datetime.datetime is a date
+                node[key] = value.isoformat()
+            elif isinstance(value, (dict, list)):
+                stack.append(value)
 
 
 MAX_DIGITS = 4300
@@ -250,7 +269,13 @@ def validated(schema: type[M], data: dict[str, Any], source: Path, what: str,
               describe: Callable[[Path, dict[str, Any]], str]) -> M:
     """`data` validated by `schema`; InputError with one ``file: field: message`` line per
     problem (`describe` words them), or saying that the document is nested too deeply to be
-    `what` (Python's recursion limit, reached by a fuzzed file of thousands of nested lists)."""
+    `what` (Python's recursion limit, reached by a fuzzed file of thousands of nested lists).
+    A top-level "$schema" (the JSON Schema an editor checks the file against) is ignored."""
+    if "$schema" in data:
+        if not isinstance(data["$schema"], str):
+            raise InputError('expected the URL or path of the JSON Schema the file follows, as text (pound ignores it; '
+                             'editors read it)', file=source, field='"$schema"')  # fmt: skip
+        data = {key: value for key, value in data.items() if key != "$schema"}
     try:
         return schema.model_validate(data)
     except ValidationError as exc:

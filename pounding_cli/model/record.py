@@ -52,7 +52,9 @@ DateText = Annotated[
     StrictType(),
     Field(max_length=64),
     BeforeValidator(_date_as_text),
-    WithJsonSchema({"type": "string", "maxLength": 64}),
+    # text; the formats let an editor (taplo) take an unquoted TOML date or date-time here
+    WithJsonSchema({"anyOf": [{"type": "string", "format": "date"}, {"type": "string", "format": "date-time"},
+                              {"type": "string", "maxLength": 64}]}),  # fmt: skip
 ]
 
 

@@ -62,12 +62,48 @@ FLOOR_DTYPE = np.dtype(
 )
 
 
-def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, **attrs: Any) -> h5py.Dataset:
+def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, dims: tuple[h5py.Dataset, ...] = (),
+             **attrs: Any) -> h5py.Dataset:  # fmt: skip
     ds = group.create_dataset(name, data=data, track_times=False)
     ds.attrs["units"] = units
     for key, value in attrs.items():
         ds.attrs[key] = value
+    _dims(ds, *dims)
     return ds
+
+
+# --- dimension scales: what makes the file a netCDF-4 file that xarray opens with named
+# dimensions (xarray.open_dataset(path, engine="h5netcdf", group=...) or open_datatree) ---
+
+
+def _scale(group: h5py.Group, name: str, values: Any, units: str = "-", description: str = "") -> h5py.Dataset:
+    """A dimension scale `name` in `group` holding the labels of that dimension (netCDF: a
+    coordinate variable): numbers, or strings for names."""
+    values = np.asarray(values)
+    data = values.astype(h5py.string_dtype()) if values.dtype.kind in "OUS" else values
+    ds = group.create_dataset(name, data=data, dtype=h5py.string_dtype() if values.dtype.kind in "OUS" else None,
+                              track_times=False)  # fmt: skip
+    ds.attrs["units"] = units
+    if description:
+        ds.attrs["description"] = description
+    ds.make_scale(name)
+    return ds
+
+
+def _labels(group: h5py.Group, name: str, labels: list[str], description: str = "") -> h5py.Dataset:
+    return _scale(group, name, np.array(labels, dtype=object), "-", description)
+
+
+def _dims(ds: h5py.Dataset, *scales: h5py.Dataset) -> None:
+    """Attach `scales` to the axes of `ds` in order. A scale kept in another group is also
+    linked into ds's group under its name (an HDF5 hard link, not a copy), so that opening
+    that group alone gives it as a coordinate."""
+    group = ds.parent
+    for axis, scale in enumerate(scales):
+        ds.dims[axis].attach_scale(scale)
+        name = scale.name.rsplit("/", 1)[-1]
+        if name not in group:
+            group[name] = scale
 
 
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
@@ -89,20 +125,36 @@ def _write(f: h5py.File, r: RunResult) -> None:
     f.attrs["model"] = r.model_json
     f.attrs["units"] = "SI"
     f.attrs["status"] = r.status
-    _dataset(f, "time", r.time, "s")
+    time = _scale(f, "time", r.time, "s", "times of the stored samples")
     ground = f.create_group("ground")
-    _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", columns="X, Y", axes="global")
+    axis = _labels(ground, "axis", ["X", "Y"], "global axes")
+    _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", (time, axis), columns="X, Y", axes="global")
     buildings = f.create_group("buildings", track_order=True)
     for name, b in r.buildings.items():
         checkpoint()  # a SIGTERM meanwhile abandons the file here (atomic_path removes it)
-        _write_building(buildings.create_group(name), b)
+        _write_building(buildings.create_group(name), b, time)
     _pause_for_tests()
     checkpoint()
-    _write_contact(f.create_group("impacts"), r.contact)
-    _dataset(f, "energy", r.energy, "J", columns=", ".join(ENERGY_NAMES))
+    _write_contact(f.create_group("impacts"), r.contact, time, axis)
+    term = _labels(f, "energy_term", list(ENERGY_NAMES), "the columns of /energy")
+    _dataset(f, "energy", r.energy, "J", (time, term), columns=", ".join(ENERGY_NAMES))
     diag = f.create_group("diagnostics")
     for key, value in r.diagnostics.items():
         diag.attrs[key] = value
+    _write_warnings(diag, r.warnings)
+
+
+WARNING_DTYPE = np.dtype([("file", h5py.string_dtype()), ("field", h5py.string_dtype()), ("message", h5py.string_dtype())])
+
+
+def _write_warnings(g: h5py.Group, warnings: list[dict[str, str]]) -> None:
+    """/diagnostics/warnings: the run's plausibility warnings, one row each (none: 0 rows)."""
+    rows = np.array([(w["file"], w["field"], w["message"]) for w in warnings], dtype=WARNING_DTYPE)
+    ds = g.create_dataset("warnings", data=rows, track_times=False)
+    _dims(ds, _scale(g, "warning", np.arange(rows.size)))
+    ds.attrs["units"] = "-, -, -"
+    ds.attrs["description"] = ("plausibility warnings (pounding_cli.plausibility): the file, the model field "
+                               "and what is odd about its value; the run went ahead")  # fmt: skip
 
 
 def _pause_for_tests() -> None:
@@ -119,8 +171,10 @@ def _pause_for_tests() -> None:
             checkpoint()
 
 
-def _write_contact(g: h5py.Group, c: ContactResult) -> None:
+def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5py.Dataset) -> None:
+    pair = _scale(g, "pair", np.arange(c.pairs.size), description="row of /impacts/pairs")
     events = g.create_dataset("events", data=c.events.astype(h5_dtype(EVENT_DTYPE)), track_times=False)
+    _dims(events, _scale(g, "event", np.arange(c.events.size), description="row of /impacts/events"))
     events.attrs["units"] = EVENT_UNITS
     events.attrs["description"] = (
         "one row per contact episode; level, floor_b: floors (1-based) of body A's and body B's "
@@ -132,16 +186,22 @@ def _write_contact(g: h5py.Group, c: ContactResult) -> None:
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS
     pairs.attrs["description"] = "contact candidates: the columns of the contact histories"
-    common = dict(sampling="output interval; peaks and the impact log use every step")
+    _dims(pairs, pair)
+    common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step")
     _dataset(g, "normal_force", c.normal_force, "N", **common)
     _dataset(g, "tangential_force", c.tangential_force, "N", direction="t = z x n, on body B", **common)
     _dataset(g, "area", c.area, "m2", **common)
     _dataset(g, "depth", c.depth, "m", **common)
-    _dataset(g, "action_point", c.action_point, "m", axes="global", **common)
+    _dataset(g, "action_point", c.action_point, "m", axes="global", **{**common, "dims": (time, pair, axis)})
 
 
-def _write_building(g: h5py.Group, b: BuildingResult) -> None:
-    common = dict(components="u_x, u_y, theta_z", axes="global", point="mass centre")
+def _write_building(g: h5py.Group, b: BuildingResult, time: h5py.Dataset) -> None:
+    n = b.elevation.size
+    floor = _scale(g, "floor", np.arange(1, n + 1), description="floor level, 1 = lowest")
+    storey = _scale(g, "storey", np.arange(1, n + 1), description="storey s is below floor s")
+    column = _labels(g, "column", list(b.column_names), "column line names, rows of columns")
+    component = _labels(g, "component", ["u_x", "u_y", "theta_z"], "translations x, y and the twist about z")
+    common = dict(dims=(time, floor, component), components="u_x, u_y, theta_z", axes="global", point="mass centre")
     _dataset(g, "displacement", b.displacement, "m, m, rad", reference="relative to the ground", **common)
     _dataset(g, "velocity", b.velocity, "m/s, m/s, rad/s", reference="relative to the ground", **common)
     _dataset(g, "acceleration", b.acceleration, "m/s2, m/s2, rad/s2", reference="absolute", **common)
@@ -154,6 +214,7 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     ds = g.create_dataset("columns", data=cols, track_times=False)
     ds.attrs["units"] = "-, m, m, m, m, m, deg"
     ds.attrs["description"] = "x, y: building coordinates; X, Y: global; section [b_x, b_y]"
+    _dims(ds, column)
     floors = np.empty(b.elevation.size, dtype=FLOOR_DTYPE)
     floors["level"] = np.arange(1, b.elevation.size + 1)
     floors["elevation"] = b.elevation
@@ -162,16 +223,22 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     ds = g.create_dataset("floors", data=floors, track_times=False)
     ds.attrs["units"] = "-, m, kg, kg*m2, m, m"
     ds.attrs["description"] = "X, Y: the floor's mass centre at rest, global coordinates"
+    _dims(ds, floor)
     peaks = g.create_group("peaks")
     _dataset(
-        peaks, "interstorey_deflection", b.interstorey_deflection, "m, m, rad",
+        peaks, "interstorey_deflection", b.interstorey_deflection, "m, m, rad", (column, storey, component),
         axes="building", description="peak |Δu_x|, |Δu_y|, |Δθ| per column and storey; NaN where absent",
     )  # fmt: skip
-    _dataset(peaks, "displacement", b.peak_displacement, "m, m, rad", axes="global", reference="relative to the ground")
-    _dataset(peaks, "acceleration", b.peak_acceleration, "m/s2, m/s2, rad/s2", axes="global", reference="absolute")
+    _dataset(peaks, "displacement", b.peak_displacement, "m, m, rad", (floor, component), axes="global",
+             reference="relative to the ground")  # fmt: skip
+    _dataset(peaks, "acceleration", b.peak_acceleration, "m/s2, m/s2, rad/s2", (floor, component), axes="global",
+             reference="absolute")  # fmt: skip
     modes = g.create_group("modes")
-    _dataset(modes, "period", b.periods, "s")
-    _dataset(modes, "participating_mass_ratio", b.participation, "-", columns="x, y, theta_z", axes="building")
+    mode = _scale(modes, "mode", np.arange(1, b.periods.size + 1), description="mode number, longest period first")
+    direction = _labels(modes, "direction", ["x", "y", "theta_z"], "building axes x, y and the twist about z")
+    _dataset(modes, "period", b.periods, "s", (mode,))
+    _dataset(modes, "participating_mass_ratio", b.participation, "-", (mode, direction), columns="x, y, theta_z",
+             axes="building")  # fmt: skip
     modes.attrs["rayleigh_a0"], modes.attrs["rayleigh_a1"] = b.rayleigh
     modes.attrs["rayleigh_units"] = "a0: 1/s, a1: s"
     if b.isolated:  # C = Tᵀ(a0·M_s + a1·K_s)T + C_b: on the superstructure's deformation (docs/theory.md §12)
@@ -180,28 +247,32 @@ def _write_building(g: h5py.Group, b: BuildingResult) -> None:
     g.attrs["base_elevation"] = b.base_elevation  # m: the building's ground; floors.elevation is absolute
     if b.yielding is not None:
         yielding = g.create_group("yielding")
-        _write_yielding(yielding, b.yielding)
-        for name in ("ductility", "residual_deflection"):  # hard links: one dataset, two names
+        _write_yielding(yielding, b.yielding, time)
+        for name in ("ductility", "residual_deflection", "member", "local_axis"):  # hard links: one dataset, two names
             peaks[name] = yielding[name]
 
 
-def _write_yielding(g: h5py.Group, y: YieldingResult) -> None:
+def _write_yielding(g: h5py.Group, y: YieldingResult, time: h5py.Dataset) -> None:
+    member = _scale(g, "member", np.arange(y.members.size), description="row of yielding/members")
+    local = _labels(g, "local_axis", ["x", "y"], "the member's local axes")
     ds = g.create_dataset("members", data=y.members.astype(h5_dtype(MEMBER_DTYPE)), track_times=False)
+    _dims(ds, member)
     ds.attrs["units"] = "-, -, -, m, m, deg, N/m, N, -, -"
     ds.attrs["description"] = (
         "yielding members: kind column or isolator; storey 1-based (an isolated building's storey 1 is "
         "the isolation storey); X, Y global plan position; angle of the local x axis from global X; "
         "stiffness, yield_force, post_yield_ratio along local x, y; elliptical: coupled yield surface"
     )
-    common = dict(axes="member local x, y", sampling="output interval; peaks use every step")
+    common = dict(dims=(time, member, local), axes="member local x, y", sampling="output interval; peaks use every step")
     _dataset(g, "deflection", y.deflection, "m", description="interstorey deflection, top minus bottom", **common)
     _dataset(g, "force", y.force, "N", description="member shear force", **common)
-    _dataset(g, "peak", y.peak, "m, m, m, N, N, N", columns="|dx|, |dy|, |d|, |fx|, |fy|, |f|",
-             axes="member local x, y")  # fmt: skip
+    peaks = ["|dx|", "|dy|", "|d|", "|fx|", "|fy|", "|f|"]
+    _dataset(g, "peak", y.peak, "m, m, m, N, N, N", (member, _labels(g, "quantity", peaks, "the columns of peak")),
+             columns=", ".join(peaks), axes="member local x, y")  # fmt: skip
     rows = "the yielding members, as in yielding/members (also reachable as peaks/<this name>)"
-    _dataset(g, "ductility", y.ductility, "-", columns="x, y", rows=rows,
+    _dataset(g, "ductility", y.ductility, "-", (member, local), columns="x, y", rows=rows,
              description="peak |deflection| / yield deflection")  # fmt: skip
-    _dataset(g, "residual_deflection", y.residual_deflection, "m", axes="member local x, y", rows=rows,
+    _dataset(g, "residual_deflection", y.residual_deflection, "m", (member, local), axes="member local x, y", rows=rows,
              description="deflection at rest once the motion has died away elastically from the final state")  # fmt: skip
 
 
@@ -221,7 +292,15 @@ def read_hdf5(path: str | Path) -> RunResult:
             diagnostics={k: _plain(v) for k, v in f["diagnostics"].attrs.items()},
             output=path,
             contact=_read_contact(f["impacts"]),
+            warnings=_read_warnings(f["diagnostics"]),
         )
+
+
+def _read_warnings(g: h5py.Group) -> list[dict[str, str]]:
+    """The plausibility warnings of /diagnostics/warnings (none in files written before it)."""
+    if "warnings" not in g:
+        return []
+    return [{k: _plain(row[k]) for k in WARNING_DTYPE.names} for row in g["warnings"][()]]
 
 
 def _read_contact(g: h5py.Group) -> ContactResult:

@@ -171,6 +171,7 @@ class RunResult:
     diagnostics: dict[str, Any] = field(default_factory=dict)
     output: Path | None = None  # the HDF5 file, once written
     contact: ContactResult | None = None
+    warnings: list[dict[str, str]] = field(default_factory=list)  # plausibility warnings: {file, field, message}
 
     def __post_init__(self) -> None:
         if self.contact is None:

@@ -69,6 +69,7 @@ class Plan:
     parameter_paths: list[str]
     buildings: dict[str, int] = field(default_factory=dict)  # building → most storeys over the cases
     yielding: dict[str, tuple[bool, bool]] = field(default_factory=dict)  # building → (inelastic columns, isolated) in some case
+    warnings: list[str] = field(default_factory=list)  # the cases' plausibility warnings, each once (gather)
 
     @property
     def base(self) -> Path:
@@ -113,14 +114,17 @@ def plan_sweep(
     sweep: str | Path | LoadedSweep,
     run_tasks: Callable[[list[Task]], Any] | None = None,
     on_progress: Callable[[int, int], None] | None = None,
+    strict: bool = False,
 ) -> Plan:
     """Expand and check every case (module docstring). `run_tasks` runs the second pass's
-    tasks (an executor's ``run``; in this process if None); `on_progress(done, total)`."""
+    tasks (an executor's ``run``; in this process if None); `on_progress(done, total)`.
+    The cases' plausibility warnings are gathered in `Plan.warnings`; with `strict` they are
+    problems, refused as the others are."""
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
     specs = expand(loaded.sweep)
     paths = list(dict.fromkeys(p for spec in specs for p in spec.parameters))
     documents, cases = _documents(loaded, specs, paths)
-    _check(loaded, documents, cases, run_tasks, on_progress)
+    warnings = _check(loaded, documents, cases, run_tasks, on_progress, strict)
     buildings: dict[str, int] = {}
     yielding: dict[str, tuple[bool, bool]] = {}
     for case in cases:
@@ -129,7 +133,7 @@ def plan_sweep(
         for name, (columns, isolated) in case.yielding.items():
             before = yielding.get(name, (False, False))
             yielding[name] = (before[0] or columns, before[1] or isolated)
-    return Plan(loaded, cases, paths, buildings, yielding)
+    return Plan(loaded, cases, paths, buildings, yielding, warnings)
 
 
 def _documents(loaded: LoadedSweep, specs: list[CaseSpec], paths: list[str]) -> tuple[list[CaseDocument], list[PlannedCase]]:
@@ -190,8 +194,10 @@ def _check(
     cases: list[PlannedCase],
     run_tasks: Callable[[list[Task]], Any] | None,
     on_progress: Callable[[int, int], None] | None,
-) -> None:
-    """Pass 2: prepare each distinct document in the workers; fill in the hashes."""
+    strict: bool = False,
+) -> list[str]:
+    """Pass 2: prepare each distinct document in the workers; fill in the hashes. Returns
+    the cases' plausibility warnings, gathered (with `strict`: problems)."""
     columns = loaded.sweep.summary.columns
     distinct: dict[str, list[int]] = {}
     for i, case in enumerate(cases):
@@ -199,7 +205,7 @@ def _check(
     tasks: list[Task] = [(key, check_case, (cases[ix[0]].document, str(loaded.base), columns))
                          for key, ix in distinct.items()]  # fmt: skip
     outcomes = run_tasks(tasks) if run_tasks is not None else (_here(t) for t in tasks)
-    problems = []
+    problems, warnings, strict_found = [], [], False
     for done, (key, ok, value) in enumerate(outcomes, start=1):
         first = documents[distinct[key][0]]
         if not ok:
@@ -209,14 +215,19 @@ def _check(
         else:
             for i in distinct[key]:
                 cases[i].input_sha256 = value["input_sha256"]
+        if value.get("warnings"):
+            lines = describe_problem(first, "\n".join(value["warnings"]), loaded.base, loaded.source)
+            (problems if strict else warnings).extend(lines * len(distinct[key]))
+            strict_found = strict
         if "columns_problem" in value:
             problems.append((value["columns_problem"], f"{loaded.source}: summary.columns: case "
                              f"{first.spec.label!r}: {value['columns_problem']}"))  # fmt: skip
         if on_progress is not None:
             on_progress(done, len(tasks))
     if problems:
-        raise InputError(gather(problems))
+        raise InputError(gather(problems) + (" (--strict: plausibility warnings are errors)" if strict_found else ""))
     _refuse_collisions(cases)
+    return gather(warnings).splitlines() if warnings else []
 
 
 def _here(task: Task) -> Outcome:

@@ -20,6 +20,7 @@ import os
 import signal
 import sys
 from collections import deque
+from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from multiprocessing.reduction import ForkingPickler
@@ -169,7 +170,8 @@ class LocalPool:
         saved = {k: os.environ.get(k) for k in ONE_THREAD}
         os.environ.update(ONE_THREAD)  # inherited by the child as it starts: before any import
         try:
-            process.start()
+            with _main_module_not_rerun():
+                process.start()
         finally:
             for k, v in saved.items():
                 if v is None:
@@ -185,6 +187,30 @@ class LocalPool:
         worker.process.join(timeout=1)
         worker.conn.close()
         self._workers.remove(worker)
+
+
+@contextmanager
+def _main_module_not_rerun() -> Iterator[None]:
+    """Start a worker without it running the main module again.
+
+    A spawned process normally re-runs the parent's main script (as ``__mp_main__``) so that
+    the parent's functions can be found; a script that calls ``run_sweep`` at its top level,
+    without ``if __name__ == "__main__":``, would then start a sweep inside every worker as it
+    starts, and the worker dies. pound's workers need nothing of the main module (their tasks
+    are pound's own functions, found by their module), so the main module's ``__file__`` and
+    ``__spec__``, by which multiprocessing finds it, are hidden while the process starts: a
+    plain script works as it is, with or without the guard."""
+    main = sys.modules.get("__main__")
+    saved = {k: main.__dict__[k] for k in ("__file__", "__spec__") if main is not None and k in main.__dict__}
+    if main is not None:
+        main.__dict__.pop("__file__", None)
+        main.__dict__["__spec__"] = None
+    try:
+        yield
+    finally:
+        if main is not None:
+            main.__dict__.pop("__spec__", None)
+            main.__dict__.update(saved)
 
 
 def _death(process: multiprocessing.process.BaseProcess) -> str:

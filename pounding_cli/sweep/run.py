@@ -44,6 +44,7 @@ class SweepOutcome:
     wall_time_s: float = 0.0
     summary: tuple[Path, Path] | None = None  # summary.h5, summary.csv (None for a dry run)
     selected: list[int] = field(default_factory=list)  # indices of the rows this call was to complete
+    warnings: list[str] = field(default_factory=list)  # the cases' plausibility warnings (plan_sweep), one line each
 
     @property
     def counts(self) -> dict[str, int]:
@@ -91,6 +92,7 @@ def run_sweep(
     on_progress: Callable[[str, int, int, int], None] | None = None,
     log: Callable[[str], None] | None = None,
     force: bool = False,
+    strict: bool = False,
 ) -> SweepOutcome:
     """Run a sweep into `output` (default: :func:`default_output`) and rebuild its summary.
 
@@ -102,7 +104,8 @@ def run_sweep(
     stage "check" or "run"; `log(text)` with what the sweep is doing. The output folder must
     be new, empty or a sweep's (OutputFolder.check_owner) unless `force`, which is logged; a
     file the sweep writes there must not be one of its inputs (the sweep file, the base
-    model, its record files)."""
+    model, its record files). The cases' plausibility warnings are in `outcome.warnings`
+    (and logged); with `strict` they are an InputError, before anything runs."""
     t0 = time.perf_counter()
     say = log or (lambda text: None)
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
@@ -120,11 +123,12 @@ def run_sweep(
     with _executor(jobs, scheduler, scheduler_file, client) as executor:
         say(f"checking the cases of {loaded.source} on {executor.description}")
         checked = (lambda done, total: on_progress("check", done, 0, total)) if on_progress else None
-        plan = plan_sweep(loaded, executor.run, checked)
+        plan = plan_sweep(loaded, executor.run, checked, strict=strict)
         selected = [i for i, c in enumerate(plan.cases) if studies is None or c.spec.study in studies]
         if dry_run:
             rows = summary_rows(folder, plan.manifest())  # reads the folder, writes nothing
-            return SweepOutcome(folder.root, rows, selected=selected, wall_time_s=time.perf_counter() - t0)
+            return SweepOutcome(folder.root, rows, selected=selected, wall_time_s=time.perf_counter() - t0,
+                                warnings=plan.warnings)  # fmt: skip
         _refuse_inputs(folder, loaded, plan)
         folder.prepare()
         with folder.locked():
@@ -132,7 +136,9 @@ def run_sweep(
                 say(f"removed {len(removed)} temporary files left by an interrupted sweep")
             manifest = plan.manifest()
             folder.write_manifest(manifest)
-            outcome = SweepOutcome(folder.root, [], selected=selected)
+            for line in plan.warnings:
+                say(line)
+            outcome = SweepOutcome(folder.root, [], selected=selected, warnings=plan.warnings)
             from ..interrupts import terminate_as_interrupt
 
             try:

@@ -17,7 +17,8 @@ from typing import Any
 def check_case(document: dict[str, Any], source: str, columns: dict[str, list[str]]) -> dict[str, Any]:
     """Validate and prepare a case as `pound run` would (assembly, record, time grid),
     without integrating. Returns {"input_sha256": str} or {"problem": message}, and
-    {"columns_problem": message} if the summary names a building or column it lacks."""
+    {"columns_problem": message} if the summary names a building or column it lacks; "warnings":
+    its plausibility warnings, one `file: field: message` line each."""
     from ..api import input_sha256, prepare
     from ..errors import InputError
     from ..model import validate_model
@@ -26,7 +27,8 @@ def check_case(document: dict[str, Any], source: str, columns: dict[str, list[st
         scene = prepare(validate_model(document, source))
     except InputError as exc:
         return {"problem": str(exc)}
-    out: dict[str, Any] = {"input_sha256": input_sha256(scene.loaded, scene.ground)}
+    out: dict[str, Any] = {"input_sha256": input_sha256(scene.loaded, scene.ground),
+                           "warnings": [str(n) for n in scene.notices]}  # fmt: skip
     lines = {b.name: [c.name for c in b.column_lines] for b in scene.system.buildings}
     for building, names in columns.items():
         if building not in lines:
