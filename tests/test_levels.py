@@ -15,7 +15,7 @@ import pytest
 import shapely
 
 from pounding_cli.api import describe, prepare
-from pounding_cli.assembly.levels import LEVEL_TOLERANCE, neighbours, storey_crossings
+from pounding_cli.assembly.levels import LEVEL_TOLERANCE, neighbours
 from pounding_cli.errors import InputError
 
 from conftest import example_doc, load_doc, model_doc, square_building
