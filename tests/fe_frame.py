@@ -913,6 +913,14 @@ def initial_state(model_labels, nb, imp, floorsB):
     return np.zeros(n), v0
 
 
+def _floor_dofs(asm: "_Assembly", frame: Frame, nb: Neighbour) -> tuple[list[int], list[int]]:
+    """The floor DOFs of the struck building (with their masses) and of the neighbour."""
+    floors = [asm.add(f"A floor {i + 1}", True) for i in range(len(frame.masses))]
+    for dof, m in zip(floors, frame.masses):
+        asm.triplets_M.append((dof, dof, m))
+    return floors, _neighbour_dofs(asm, nb)
+
+
 def build_fe(frame: Frame, nb: Neighbour, imp: Impact, n_e: int, other_columns="lumped"):
     """The FE reference: returns (ContactModel, x₀, v₀). The struck column of storey
     `imp.storey` is explicit with n_e Hermite elements and a node at ξ; the other columns per
@@ -921,10 +929,7 @@ def build_fe(frame: Frame, nb: Neighbour, imp: Impact, n_e: int, other_columns="
     from the end elements' K_e·u_e + M_e·ü_e (absolute accelerations)."""
     asm = _Assembly()
     N = len(frame.masses)
-    floorsA = [asm.add(f"A floor {i + 1}", True) for i in range(N)]
-    for i, m in enumerate(frame.masses):
-        asm.triplets_M.append((floorsA[i], floorsA[i], m))
-    floorsB = _neighbour_dofs(asm, nb)
+    floorsA, floorsB = _floor_dofs(asm, frame, nb)
     frame_dofs = list(floorsA)
     struck = None
     for i in range(1, N + 1):
@@ -1010,10 +1015,7 @@ def build_reduced(frame: Frame, nb: Neighbour, imp: Impact, variant="b", n_modes
         raise ValueError("local modes need ρA > 0")
     asm = _Assembly()
     N = len(frame.masses)
-    floorsA = [asm.add(f"A floor {i + 1}", True) for i in range(N)]
-    for i, m in enumerate(frame.masses):
-        asm.triplets_M.append((floorsA[i], floorsA[i], m))
-    floorsB = _neighbour_dofs(asm, nb)
+    floorsA, floorsB = _floor_dofs(asm, frame, nb)
     i = imp.storey
     h = frame.heights[i - 1]
     EI, rhoA = frame.EI, frame.rhoA
