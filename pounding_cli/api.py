@@ -31,7 +31,7 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
-from .assembly.levels import clear_distance, unmet_neighbours
+from .assembly.levels import clear_distance, scene_unmet_neighbours
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
@@ -220,12 +220,6 @@ def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
-def _level_buildings(buildings: list, pairs: list) -> list[tuple[int, int]]:  # type: ignore[type-arg]
-    """The building indices of each slab–slab candidate."""
-    index = {b.name: k for k, b in enumerate(buildings)}
-    return [(index[p.body_a], index[p.body_b]) for p in pairs if p.floor_b]
-
-
 def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     """What a model resolves to: masses, periods, damping, record, time step (JSON-ready)."""
     scene = prepare(model)
@@ -310,8 +304,7 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
             ],
             "unmet_neighbours": [
                 {"building_a": system.buildings[i].name, "building_b": system.buildings[j].name, "distance_m": d}
-                for i, j, d in (unmet_neighbours(system.buildings, _level_buildings(system.buildings, contact.pairs),
-                                                 contact.crossings) if m.contact.enabled else [])
+                for i, j, d in scene_unmet_neighbours(scene)
             ],
             "friction_static": m.contact.friction_static,
             "friction_kinetic": m.contact.friction_kinetic,

@@ -859,8 +859,8 @@ CANDIDATE_ROWS = 20
 
 def _print_candidates(c: dict[str, Any]) -> None:
     """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and clear
-    distance at rest; slab–storey candidates said to be not simulated yet; neighbours that
-    cannot meet named in a warning."""
+    distance at rest; slab–storey candidates said to be not simulated yet (neighbours that
+    cannot meet are a plausibility warning, plausibility.unmet_neighbours)."""
     rows = [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} floor {p['floor_b']}" if p["floor_b"] else p["body_b"],
              p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"]]  # fmt: skip
     rows += [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} storey {p['storey_b']}", p["kind"],
@@ -881,10 +881,6 @@ def _print_candidates(c: dict[str, Any]) -> None:
         from .assembly.levels import unsimulated_warning
 
         err.print(unsimulated_warning(len(c["storey_crossings"])), markup=False)
-    for u in c["unmet_neighbours"]:
-        err.print(f"warning: buildings {u['building_a']!r} and {u['building_b']!r} are {u['distance_m']:.3g} m apart "
-                  "in plan, but no floor of one lies at a floor or inside a storey of the other, so they cannot "
-                  "meet in pound; check their base_elevation and storey heights", markup=False)  # fmt: skip
 
 
 def _print_description(info: dict[str, Any]) -> None:

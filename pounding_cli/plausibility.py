@@ -269,6 +269,19 @@ def impact_stiffness(scene: "Scene") -> Iterator[Notice]:
             ), shortens_step=ratio > 1)  # fmt: skip
 
 
+def unmet_neighbours(scene: "Scene") -> Iterator[Notice]:
+    """Two buildings within levels.NEAR (1 m) of each other in plan that no contact candidate
+    joins: their levels likely are not what was meant (assembly/levels.py)."""
+    from .assembly.levels import scene_unmet_neighbours
+
+    buildings = scene.system.buildings
+    for i, j, d in scene_unmet_neighbours(scene):
+        yield Notice(str(scene.loaded.source), f"buildings[{j}].base_elevation", (
+            f"buildings {buildings[i].name!r} and {buildings[j].name!r} are {d:.3g} m apart in plan, but no floor of "
+            "one lies at a floor or inside a storey of the other, so they cannot meet in pound; check their "
+            "base_elevation and storey heights"))  # fmt: skip
+
+
 def _times(ratio: float) -> str:
     """'1,000', '250', '3.2e+07': a ratio above 1 as a reader says it."""
     return f"{ratio:,.0f}" if 10 <= ratio < 1e6 else f"{ratio:.3g}"
@@ -300,5 +313,6 @@ CHECKS: list[Check] = [
     peak_ground_acceleration,
     vertical_component,
     impact_stiffness,
+    unmet_neighbours,
 ]
 """The checks, in the order their notices are reported; append one to add a check."""

@@ -145,6 +145,11 @@ def test_validate_warns_of_unsimulated_crossings_and_unmet_neighbours(tmp_path: 
     proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "buildings 'left' and 'right' are 0.05 m apart in plan, but no floor of one" in proc.stderr
+    # a plausibility warning like the others: named by its field, and an error with --strict
+    assert f"{path}: buildings[1].base_elevation: buildings 'left' and 'right'" in proc.stderr
+    strict = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", "--strict", str(path)],
+                            capture_output=True, text=True)  # fmt: skip
+    assert strict.returncode == 2 and "buildings[1].base_elevation" in strict.stderr
 
 
 def _absolute_records(doc: dict) -> dict:

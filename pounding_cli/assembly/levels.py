@@ -107,12 +107,20 @@ def neighbours(buildings: list[BuildingArrays]) -> list[tuple[int, int, float]]:
     return out
 
 
-def unmet_neighbours(buildings: list[BuildingArrays], level_pairs: list[tuple[int, int]],
-                     crossings: list[StoreyCrossing]) -> list[tuple[int, int, float]]:  # fmt: skip
+def unmet_neighbours(buildings: list[BuildingArrays], pairs: list, crossings: list[StoreyCrossing]) -> list[tuple[int, int, float]]:  # type: ignore[type-arg]
     """The neighbours (i, j, d) of `neighbours` between which no contact can happen: no floors
-    at one level (`level_pairs`: building indices of the slab–slab candidates) and no slab of
-    one inside a storey of the other. Such a pair is named in a warning: their floors all lie
-    where nothing meets (one wholly above the other's roof, or at the other's ground)."""
-    met = {(min(a, b), max(a, b)) for a, b in level_pairs}
+    at one level (no slab–slab candidate among `pairs`, the contact arrays' PairInfo) and no
+    slab of one inside a storey of the other. Such a pair is named in a plausibility warning
+    (plausibility.unmet_neighbours): their floors all lie where nothing meets (one wholly above
+    the other's roof, or at the other's ground)."""
+    index = {b.name: k for k, b in enumerate(buildings)}
+    met = {tuple(sorted((index[p.body_a], index[p.body_b]))) for p in pairs if p.floor_b}
     met |= {(min(c.building, c.struck), max(c.building, c.struck)) for c in crossings}
     return [(i, j, d) for i, j, d in neighbours(buildings) if (i, j) not in met]
+
+
+def scene_unmet_neighbours(scene) -> list[tuple[int, int, float]]:  # type: ignore[no-untyped-def]
+    """unmet_neighbours of a prepared scene (none when contact is off)."""
+    if not scene.loaded.model.contact.enabled:
+        return []
+    return unmet_neighbours(scene.system.buildings, scene.contact.pairs, scene.contact.crossings)
