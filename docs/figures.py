@@ -299,6 +299,19 @@ def bench_scene(path: str, scene: str) -> str:
     return "\n".join(lines[start:end]).strip()
 
 
+@registered("storey-fe-table")
+def storey_fe_table() -> str:
+    """pound's slab–storey pounding against the finite-element frame (tests/test_storey_fe.py),
+    as a markdown table: run both, here."""
+    import tempfile
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_storey_fe import table
+
+    with tempfile.TemporaryDirectory() as folder:
+        return table(Path(folder))
+
+
 @registered("sweep-timing")
 def sweep_timing(jobs: str, column: str) -> str:
     """A cell of docs/bench/sweep.md (docs/sweep_timing.py): the row of `jobs` local jobs."""

@@ -276,7 +276,8 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "floor_a": p.floor_a,
                     "body_b": p.body_b,
                     "floor_b": p.floor_b,
-                    "kind": "slab-slab" if p.floor_b else "slab-obstacle",
+                    "kind": p.kind,
+                    **({"storey_b": p.storey, "xi": p.xi} if p.storey else {}),
                     "elevation_m": p.elevation,
                     "clear_distance_m": clear_distance(contact.body_poly[contact.pair_a[i], : contact.body_nv[contact.pair_a[i]]],
                                                        contact.body_poly[contact.pair_b[i], : contact.body_nv[contact.pair_b[i]]]),
@@ -298,9 +299,13 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "storey_height_m": c.height,
                     "clear_distance_m": clear_distance(system.buildings[c.building].slabs[c.floor],
                                                        system.buildings[c.struck].slabs[c.storey - 1]),
-                    "simulated": False,
+                    "simulated": True,
+                    "struck_columns": [system.buildings[c.struck].column_lines[system.buildings[c.struck].columns[i].line].name
+                                       for i in body.columns],
+                    "contact_line_m": body.line,
+                    "local_compliance_m_per_N": body.compliance_normal,
                 }
-                for c in contact.crossings
+                for c, body in zip(contact.crossings, contact.storeys)
             ],
             "unmet_neighbours": [
                 {"building_a": system.buildings[i].name, "building_b": system.buildings[j].name, "distance_m": d}
@@ -501,7 +506,7 @@ def execute(
         "steps": response.steps,
         "contact_steps": response.contact_steps,
         "contact_pairs": scene.contact.n_pairs,
-        "unsimulated_storey_crossings": len(scene.contact.crossings),
+        "storey_pairs": len(scene.contact.storeys),
         "impacts": response.events_total,
         "impacts_logged": int(response.events.shape[0]),
         "n_dof": system.n_dof,

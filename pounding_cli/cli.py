@@ -244,10 +244,6 @@ def run(
         signal.signal(sig, signal.SIG_DFL)
     if note:
         err.print(note, markup=False)
-    if result.diagnostics.get("unsimulated_storey_crossings"):
-        from .assembly.levels import unsimulated_warning
-
-        err.print(unsimulated_warning(result.diagnostics["unsimulated_storey_crossings"]), markup=False)
     summary = run_summary(result)
     if json_:
         print(json.dumps(summary, indent=2))
@@ -859,10 +855,10 @@ CANDIDATE_ROWS = 20
 
 def _print_candidates(c: dict[str, Any]) -> None:
     """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and clear
-    distance at rest; slab–storey candidates said to be not simulated yet (neighbours that
-    cannot meet are a plausibility warning, plausibility.unmet_neighbours)."""
+    distance at rest (neighbours that cannot meet are a plausibility warning,
+    plausibility.unmet_neighbours)."""
     rows = [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} floor {p['floor_b']}" if p["floor_b"] else p["body_b"],
-             p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"]]  # fmt: skip
+             p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"] if "storey_b" not in p]  # fmt: skip
     rows += [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} storey {p['storey_b']}", p["kind"],
               p["elevation_m"], f"{p['xi']:.3f}", p["clear_distance_m"]) for p in c["storey_crossings"]]  # fmt: skip
     if rows:
@@ -877,10 +873,6 @@ def _print_candidates(c: dict[str, Any]) -> None:
                   "clear: distance in plan", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
-    if c["storey_crossings"]:
-        from .assembly.levels import unsimulated_warning
-
-        err.print(unsimulated_warning(len(c["storey_crossings"])), markup=False)
 
 
 def _print_description(info: dict[str, Any]) -> None:
@@ -935,13 +927,13 @@ def _print_description(info: dict[str, Any]) -> None:
     if not c["enabled"]:
         out.print("contact: off", markup=False)
     elif not c["pairs"]:
-        out.print("contact: no floors share a level" + (", so nothing can touch" if not c["storey_crossings"] else ""),
+        out.print("contact: no floors share a level and no slab lies inside a neighbour's storey, so nothing can touch",
                   markup=False)  # fmt: skip
     else:
         out.print(f"contact: {len(c['pairs'])} candidate pairs", markup=False)
         groups: dict[str, list[str]] = {}  # the pairs' kinds by their resolved impact parameters
         for p in c["pairs"]:
-            kind = "floor–" + ("floor" if p["floor_b"] else p["body_b"])
+            kind = "floor–" + ("storey" if "storey_b" in p else "floor" if p["floor_b"] else p["body_b"])
             kinds = groups.setdefault(_impact_parameters(p), [])
             if kind not in kinds:
                 kinds.append(kind)

@@ -75,7 +75,8 @@ def test_every_scene_validates():
     from pounding_cli.model import load_model
 
     names = [p.stem for p in scene_files()]
-    assert names == ["corner", "inelastic", "isolated", "linear", "paper_pounding", "row_of_5", "stiff_contact"]
+    assert names == ["corner", "inelastic", "isolated", "linear", "mismatched_floors", "paper_pounding", "row_of_5",
+                     "stiff_contact"]
     for path in scene_files():
         load_model(path)
 

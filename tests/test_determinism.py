@@ -82,6 +82,8 @@ def same_bits(a, b) -> bool:
     a, b = np.asarray(a), np.asarray(b)
     if a.dtype != b.dtype or a.shape != b.shape:
         return False
+    if a.dtype.names:  # a table: column by column (NaN in a float column, as in xi, is NaN in both)
+        return all(same_bits(a[name], b[name]) for name in a.dtype.names)
     if a.dtype.kind in "fc":  # compare the bytes: NaN == NaN, -0.0 != 0.0
         return np.ascontiguousarray(a).tobytes() == np.ascontiguousarray(b).tobytes()
     return bool(np.array_equal(a, b))

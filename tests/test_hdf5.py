@@ -142,9 +142,9 @@ def test_impacts_written_and_read_back(tmp_path):
         # 4 ms and of the trapezoidal rule over its CDM steps of 2.6 µs (measured 2.1e-9)
         assert abs(f["energy"][:, 6]).max() < 1e-6 * f["energy"][:, 0].max()
     again = pound.read_hdf5(path)
-    assert again.contact.events.tolist() == c.events.tolist()
+    assert repr(again.contact.events.tolist()) == repr(c.events.tolist())  # repr: NaN (xi of a slab–slab contact) equals NaN
     assert_array_equal(again.contact.normal_force, c.normal_force)
-    assert again.contact.pairs.tolist() == c.pairs.tolist()
+    assert repr(again.contact.pairs.tolist()) == repr(c.pairs.tolist())
 
 
 def test_impact_log_of_an_older_file_reads_with_nan(tmp_path):
@@ -167,7 +167,7 @@ def test_impact_log_of_an_older_file_reads_with_nan(tmp_path):
     again = pound.read_hdf5(path).contact.events
     assert np.isnan(again[list(new)].tolist()).all()
     kept = [n for n in again.dtype.names if n not in new]
-    assert again[kept].tolist() == result.contact.events[kept].tolist()
+    assert repr(again[kept].tolist()) == repr(result.contact.events[kept].tolist())  # repr: NaN equals NaN
     assert summary(path)["impacts"]["peak"]["tangential_force_at_peak"] is None
     run = open_run(path)
     instant = peak_instant(run, plan_geometry(run))

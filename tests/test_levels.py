@@ -70,7 +70,8 @@ def test_the_issues_case_3_2_m_storeys() -> None:
     doc = example_doc()
     doc["buildings"][1]["floors"][0]["height"] = 3.2
     info = describe(load_doc(doc))["contact"]
-    assert info["pairs"] == []
+    assert {p["kind"] for p in info["pairs"]} == {"slab-storey"} and len(info["pairs"]) == 6  # every one simulated
+    assert all(c["simulated"] for c in info["storey_crossings"])
     rows = [(c["body_a"], c["floor_a"], c["body_b"], c["storey_b"], round(c["xi"], 12)) for c in info["storey_crossings"]]
     assert rows == [("left", 1, "right", 1, round(3.0 / 3.2, 12)), ("left", 2, "right", 2, round(2.8 / 3.2, 12)),
                     ("left", 3, "right", 3, round(2.6 / 3.2, 12)), ("right", 1, "left", 2, round(0.2 / 3.0, 12)),
@@ -89,7 +90,7 @@ def test_levels_within_a_millimetre_stay_slab_to_slab() -> None:
     near = prepare(load_doc(_pair(base=(0.0, 0.0005))))
     assert near.contact.n_pairs == 3 and near.contact.crossings == []
     off = prepare(load_doc(_pair(base=(0.0, 0.002))))
-    assert off.contact.n_pairs == 0
+    assert off.contact.n_pairs == 6 and {p.kind for p in off.contact.pairs} == {"slab-storey"}
     xis = sorted(round(c.xi, 9) for c in off.contact.crossings)
     # left floors 1-3 just below right floors 1-3: ξ = (3k − (3(k−1) + 0.002))/3; right floors just above left's
     assert xis == sorted([round(0.002 / 3.0, 9)] * 3 + [round(2.998 / 3.0, 9)] * 3)
@@ -132,14 +133,14 @@ def test_neighbours_that_cannot_meet_are_named() -> None:
     assert far["unmet_neighbours"] == []
 
 
-def test_validate_warns_of_unsimulated_crossings_and_unmet_neighbours(tmp_path: Path) -> None:
+def test_validate_lists_crossings_and_warns_of_unmet_neighbours(tmp_path: Path) -> None:
     doc = _pair(h_right=3.2)
     path = tmp_path / "m.json"
     path.write_text(json.dumps(_absolute_records(doc)))
     proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "slab–storey" in proc.stdout and "right storey 1" in proc.stdout
-    assert "6 slabs lie between the floors of a neighbour" in proc.stderr
+    assert "floor–storey" in proc.stdout and "not yet simulate" not in proc.stderr
     doc = _pair(storeys=(2, 3), base=(0.0, 6.0))
     path.write_text(json.dumps(_absolute_records(doc)))
     proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
@@ -204,22 +205,30 @@ def test_neighbours_are_shapelys_within_a_metre() -> None:
     assert [d for _, _, d in found] == pytest.approx(gaps[:2], abs=1e-12)
 
 
-def test_a_run_says_slab_to_storey_impacts_are_not_simulated(tmp_path: Path) -> None:
-    """Until the solver meets storeys, a run with slab–storey candidates says so on stderr
-    and in its diagnostics, instead of reporting 0 impacts in silence."""
+def test_a_run_simulates_and_logs_slab_to_storey_impacts(tmp_path: Path) -> None:
+    """The issue's case (the right building's storeys 3.2 m instead of 3.0 m, 5 cm apart):
+    the run simulates the slab–storey candidates, says nothing of them on stderr, counts them
+    in its diagnostics and logs its impacts with the storey struck and ξ."""
     path = tmp_path / "m.json"
-    doc = _pair(h_right=3.2, duration=0.5)
+    doc = _pair(h_right=3.2, gap=0.01, duration=8.0)
     path.write_text(json.dumps(_absolute_records(doc)))
     out = tmp_path / "o.h5"
     proc = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(path), "-o", str(out)],
                           capture_output=True, text=True)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
-    assert "this version does not yet simulate slab–storey impacts" in proc.stderr
+    assert "not yet simulate" not in proc.stderr
     from pounding_cli.results import read_hdf5
 
     result = read_hdf5(out)
-    assert result.diagnostics["unsimulated_storey_crossings"] == 6
+    assert result.diagnostics["storey_pairs"] == 6
     assert [b.base_elevation for b in result.buildings.values()] == [0.0, 0.0]
+    pairs = result.contact.pairs  # the left slabs strike storeys 1–3 of the right, the right's storeys 2–4 of the left
+    assert sorted(pairs["storey_b"]) == [1, 2, 2, 3, 3, 4]
+    events = result.contact.events
+    assert events.size > 0 and (events["storey_b"] > 0).all()
+    for e in events:  # ξ of the struck storey: (z − z_below)/h from the levels themselves
+        h = 3.2 if e["body_b"] == "right" else 3.0
+        assert e["xi"] == pytest.approx((e["elevation"] - h * (e["storey_b"] - 1)) / h, abs=1e-12)
 
 
 def test_a_moat_shields_the_isolation_storey() -> None:

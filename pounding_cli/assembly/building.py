@@ -39,6 +39,7 @@ class ColumnInstance:
     storey: int  # 0 = ground storey
     arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global axes)
     arm_top: np.ndarray  # offset from the top floor's mass centre, m (global axes)
+    stiffness: np.ndarray | None = None  # (2, 2) lateral stiffness in global axes, fixed at both ends, N/m
 
 
 @dataclass(frozen=True)
@@ -195,7 +196,7 @@ def assemble_building(
             arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
-            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1]))
+            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], plan_k[-1]))
             if col.hysteresis is not None:
                 law = laws[col.hysteresis]
                 fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])

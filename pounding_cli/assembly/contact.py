@@ -1,8 +1,12 @@
 """Contact candidates as arrays: the bodies that can touch, the pairs at one level, and the
 impact parameters of each pair (paper eqs. 6–9, eq. 8 corrected).
 
-Bodies are numbered floors first (body f is global floor f), then obstacles. Body A of a
-pair is the floor of the building listed first; body B the other floor, or the obstacle.
+Bodies are numbered floors first (body f is global floor f), then obstacles, then the storeys
+that neighbours' slabs strike between two floors (storey_contact.py). Body A of a pair is the
+floor of the building listed first (of a slab–storey pair: the slab); body B the other floor,
+the obstacle or the storey. A storey body moves as virtual floor n_floors + 1 + k of the
+solver (n_floors is the ground's slot): storey_below, storey_above, storey_shape and
+storey_arm say how (solver/storey_bodies.py).
 """
 
 from __future__ import annotations
@@ -14,7 +18,8 @@ import numpy as np
 from ..errors import InputError
 from ..model import Contact, LoadedModel, Material
 from .building import BuildingArrays
-from .levels import LEVEL_TOLERANCE, StoreyCrossing, moat_pits, storey_crossings
+from .levels import LEVEL_TOLERANCE, StoreyCrossing, facing_crossings, moat_pits, storey_crossings
+from .storey_contact import StoreyBody, series_stiffness, storey_body
 from ..solver.tunables import LIKELY_DEPTH, STEP_BOUND
 from .polygon import polygon_centroid
 
@@ -75,8 +80,15 @@ class PairInfo:
     body_a: str
     floor_a: int  # 1-based floor of body A's building
     body_b: str
-    floor_b: int  # 1-based floor of body B's building; 0 for an obstacle
+    floor_b: int  # 1-based floor of body B's building (for a storey: the floor above it); 0 for an obstacle
     elevation: float  # m
+    storey: int = 0  # slab–storey: the 1-based storey of body B's building that A's slab strikes; else 0
+    xi: float = float("nan")  # slab–storey: where along that storey's height, (z − z_below)/h
+
+    @property
+    def kind(self) -> str:
+        """slab-slab, slab-storey or slab-obstacle."""
+        return "slab-storey" if self.storey else "slab-slab" if self.floor_b else "slab-obstacle"
 
 
 @dataclass(frozen=True)
@@ -105,7 +117,12 @@ class ContactArrays:
     pair_fields: list[tuple[str, str]] = field(default_factory=list)  # the model fields that set each pair's (k_N, k_T)
     cause_max: tuple[int, int] = (-1, 0)  # (pair, 0: k_N·line, 1: k_T) that sets omega_max
     cause_step: tuple[int, int] = (-1, 0)  # (pair, term) that sets omega_step
-    crossings: list[StoreyCrossing] = field(default_factory=list)  # slabs between a neighbour's floors (levels.py): not yet simulated
+    crossings: list[StoreyCrossing] = field(default_factory=list)  # slabs between a neighbour's floors (levels.py)
+    storeys: list[StoreyBody] = field(default_factory=list)  # the storey bodies, in body order after the obstacles
+    storey_below: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # (n_s,) global floor below, −1: ground
+    storey_above: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # (n_s,) global floor above
+    storey_shape: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_s,) s(ξ)
+    storey_arm: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))  # (n_s, 2) G_above − G_below at rest, m
 
     def stiffness_field(self, cause: tuple[int, int]) -> str:
         """The model field that sets the stiffness term `cause` (a cause_max or cause_step)."""
@@ -141,12 +158,27 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         centres.append(polygon_centroid(poly))
         masses.append(np.inf)
         inertias.append(np.inf)
+    # the storeys that slabs strike between a neighbour's floors: bodies after the obstacles
+    crossings = storey_crossings(buildings, moat_pits(model)) if contact.enabled else []
+    storeys = [storey_body(buildings, c) for c in crossings]
+    first_floor = np.concatenate([[0], np.cumsum([b.n_floors for b in buildings])]).astype(np.int64)
+    storey_bodies = len(polys)
+    for k, body in enumerate(storeys):
+        struck = buildings[body.crossing.struck]
+        polys.append(struck.slabs[body.above])
+        floors.append(n_floors + 1 + k)
+        centres.append(struck.mass_centre[body.above])
+        owners.append((body.crossing.struck, body.above))
     nv = np.array([p.shape[0] for p in polys], dtype=np.int64)
     body_poly = np.zeros((len(polys), int(nv.max()), 2))
     for k, p in enumerate(polys):
         body_poly[k, : p.shape[0]] = p
     centre = np.asarray(centres, dtype=float).reshape(-1, 2)
     radius = np.array([np.max(np.hypot(*(p - c).T)) for p, c in zip(polys, centre)])
+    for k, body in enumerate(storeys):
+        mass, inertia = _storey_inertia(buildings, first_floor, body, float(radius[storey_bodies + k]))
+        masses.append(mass)
+        inertias.append(inertia)
 
     candidates: list[tuple[int, int, PairInfo]] = []
     if contact.enabled:
@@ -162,11 +194,27 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
                     _check_apart(polys[ia], polys[n_floors + o], info, _obstacle_field(model, o), loaded)
                     candidates.append((ia, n_floors + o, info))
 
+        for k, body in enumerate(storeys):
+            c = body.crossing
+            info = PairInfo(buildings[c.building].name, c.floor + 1, buildings[c.struck].name, c.storey, c.elevation,
+                            c.storey, c.xi)  # fmt: skip
+            candidates.append((int(first_floor[c.building] + c.floor), storey_bodies + k, info))
+
     # each pair's settings: [contact]'s, with an obstacle's (or moat wall's) own in their place
-    settings = [obstacles[j - n_floors].applied_to(contact) if j >= n_floors else contact for _, j, _ in candidates]
+    settings = [obstacles[j - n_floors].applied_to(contact) if n_floors <= j < storey_bodies else contact
+                for _, j, _ in candidates]  # fmt: skip
     materials_of: dict[str, Material] = {}  # per body, found once (a building's walks every column)
     k_pairs = [_pair_stiffness(loaded, info, s, materials_of) for s, (_, _, info) in zip(settings, candidates)]
-    fields = [_stiffness_fields(model, j - n_floors) for _, j, _ in candidates]
+    # two slabs at neighbouring levels, each between the other's floors, strike each other's storeys at
+    # one interface: each contact takes half its law (k_N, k_T and the dashpots; ζ/√2 halves 2ζ√(k_N·L·m)),
+    # so that as the levels meet the two make the one slab–slab contact (docs/theory.md §10)
+    shared = [False] * (len(candidates) - len(storeys)) + facing_crossings(crossings)
+    k_pairs = [(k[0] / 2, k[1] / 2) if half else k for k, half in zip(k_pairs, shared)]
+    # a struck storey's columns give way locally, in series with the overlap law (storey_contact.py)
+    k_pairs = [series_stiffness(*k, storeys[j - storey_bodies]) if j >= storey_bodies else k
+               for k, (_, j, _) in zip(k_pairs, candidates)]  # fmt: skip
+    share = np.where(shared, 0.5, 1.0)
+    fields = [_stiffness_fields(model, j - n_floors if j < storey_bodies else -1) for _, j, _ in candidates]
     kn = np.array([k[0] for k in k_pairs], dtype=float)
     kt = np.array([k[1] for k in k_pairs], dtype=float)
     m = np.asarray(masses)
@@ -184,9 +232,9 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         pair_kt=kt,
         pair_mu_s=np.array([s.friction_static for s in settings], dtype=float),
         pair_mu_k=np.array([s.friction_kinetic for s in settings], dtype=float),
-        pair_cn=np.array([s.damping_normal or 0.0 for s in settings], dtype=float),
-        pair_zeta=np.array([zetas.get(s.restitution, 0.0) for s in settings], dtype=float),
-        pair_ct=np.array([s.damping_tangential or 0.0 for s in settings], dtype=float),
+        pair_cn=np.array([s.damping_normal or 0.0 for s in settings], dtype=float) * share,
+        pair_zeta=np.array([zetas.get(s.restitution, 0.0) for s in settings], dtype=float) * np.sqrt(share),
+        pair_ct=np.array([s.damping_tangential or 0.0 for s in settings], dtype=float) * share,
         pair_meff=meff.astype(float),
         pairs=[c[2] for c in candidates],
         omega_max=0.0,
@@ -205,8 +253,31 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         omega_likely, cause_step = STEP_BOUND * omega_max, cause_max
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega_max, "pair_mobility": mobility,
                             "omega_step": omega_likely, "pair_fields": fields, "cause_max": cause_max,
-                            "cause_step": cause_step,
-                            "crossings": storey_crossings(buildings, moat_pits(model)) if contact.enabled else []})  # fmt: skip
+                            "cause_step": cause_step, "crossings": crossings, "storeys": storeys,
+                            "storey_below": np.array([first_floor[b.crossing.struck] + b.below if b.below >= 0 else -1
+                                                      for b in storeys], dtype=np.int64).reshape(-1),
+                            "storey_above": np.array([first_floor[b.crossing.struck] + b.above for b in storeys],
+                                                     dtype=np.int64).reshape(-1),
+                            "storey_shape": np.array([b.shape for b in storeys], dtype=float).reshape(-1),
+                            "storey_arm": np.array([b.arm for b in storeys], dtype=float).reshape(-1, 2)})  # fmt: skip
+
+
+def _storey_inertia(buildings: list[BuildingArrays], first_floor: np.ndarray, body: StoreyBody,
+                    radius: float) -> tuple[float, float]:  # fmt: skip
+    """(m, J) of a storey body for the dashpot's effective mass and the contact step's bound:
+    a force F at r from the upper floor's mass centre accelerates the outline there by
+    F·[s²(1/m₁ + r²/J₁) + (1 − s)²(1/m₀ + (r + |d|)²/J₀)] at most (storey_contact.py), which
+    1/m + r²/J with these equals at r = radius (the ground below: 1/m₀ = 1/J₀ = 0)."""
+    struck = buildings[body.crossing.struck]
+    s = body.shape
+    m1, j1 = struck.mass[3 * body.above], struck.mass[3 * body.above + 2]
+    inv_m, inv_j = s * s / m1, s * s / j1
+    if body.below >= 0:
+        m0, j0 = struck.mass[3 * body.below], struck.mass[3 * body.below + 2]
+        stretch = (1.0 + float(np.hypot(*body.arm)) / radius) ** 2 if radius > 0 else 1.0
+        inv_m += (1.0 - s) ** 2 / m0
+        inv_j += (1.0 - s) ** 2 * stretch / j0
+    return 1.0 / inv_m, 1.0 / inv_j
 
 
 def _stiffness_fields(model, o: int) -> tuple[str, str]:

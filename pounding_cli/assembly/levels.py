@@ -72,17 +72,29 @@ def storey_crossings(buildings: list[BuildingArrays], pits: frozenset[int] = fro
     return out
 
 
+def facing_crossings(crossings: list[StoreyCrossing]) -> list[bool]:
+    """For each crossing, whether it faces another the other way: the floor of the struck storey
+    nearest the slab (the one above if ξ ≥ ½, else below) lies in turn inside a storey of the
+    slab's building, with the slab as the nearest floor of that storey. Two slabs at nearby
+    levels, each between the other's floors, then strike each other's storeys: two contacts at
+    one interface, which as the levels meet (ξ → 1 and ξ → 0) become the one slab–slab contact
+    (assembly/contact.py shares the law between them)."""
+    def faced(c: StoreyCrossing) -> tuple[int, int]:
+        return c.struck, c.storey - 1 if c.xi >= 0.5 else c.storey - 2  # (building, 0-based floor)
+
+    facing = {}  # a slab lies inside at most one storey of each neighbour
+    for c in crossings:
+        facing[(c.building, c.floor, c.struck)] = faced(c)
+    out = []
+    for c in crossings:
+        b, g = faced(c)
+        out.append(g >= 0 and facing.get((b, g, c.building)) == (c.building, c.floor))
+    return out
+
+
 def moat_pits(model) -> frozenset[int]:  # type: ignore[no-untyped-def]
     """The indices of the buildings of a model whose isolation system has a moat wall."""
     return frozenset(b for b, bld in enumerate(model.buildings) if bld.isolation is not None and bld.isolation.moat is not None)
-
-
-def unsimulated_warning(n: int) -> str:
-    """What pound validate and pound run say of n slab–storey candidates, which this version
-    lists but does not simulate."""
-    return (f"warning: {n} slab{'s' if n != 1 else ''} lie{'s' if n == 1 else ''} between the floors of a neighbour "
-            "(slab–storey candidates: pound validate lists them); this version does not yet simulate slab–storey "
-            "impacts, so a run reports none of them")  # fmt: skip
 
 
 def clear_distance(poly_a: np.ndarray, poly_b: np.ndarray) -> float:

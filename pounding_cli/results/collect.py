@@ -76,7 +76,7 @@ def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
     pairs = np.zeros(contact.n_pairs, PAIR_DTYPE)
     for p, info in enumerate(contact.pairs):
         pairs[p] = (info.body_a, info.floor_a, info.body_b, info.floor_b, info.elevation,
-                    contact.pair_kn[p], contact.pair_kt[p])  # fmt: skip
+                    contact.pair_kn[p], contact.pair_kt[p], info.storey, info.xi)  # fmt: skip
     h = response.contact
     raw = response.events
     events = np.zeros(raw.shape[0], EVENT_DTYPE)
@@ -87,7 +87,7 @@ def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
             row[kernel.EV_PEAK_FN], row[kernel.EV_IMPULSE], row[kernel.EV_PEAK_AREA], row[kernel.EV_PEAK_DEPTH],
             row[kernel.EV_X], row[kernel.EV_Y], bool(row[kernel.EV_SLID]), info.floor_b, info.elevation,
             row[kernel.EV_T_PEAK], int(row[kernel.EV_PAIR]), row[kernel.EV_FT_PEAK], row[kernel.EV_NX],
-            row[kernel.EV_NY],
+            row[kernel.EV_NY], info.storey, info.xi,
         )  # fmt: skip
     return ContactResult(
         pairs=pairs,

@@ -29,8 +29,8 @@ from .result import (
     YieldingResult,
 )
 
-EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -"
-PAIR_UNITS = "-, -, -, -, m, N/m2, N/m"
+EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -"
+PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
 
 
 def h5_dtype(dtype: np.dtype) -> np.dtype:
@@ -181,11 +181,15 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
         "buildings, floor_b 0 for an obstacle; at the step of the peak normal force (t_peak): x, y the "
         "action point (global), tangential_force_at_peak the tangential force on body B along t = z x n "
         "(signed), normal_x, normal_y the unit normal n from A into B (global); t_end NaN when the contact "
-        "lasted to the end"
+        "lasted to the end; storey_b, xi: the storey of body B's building that body A's slab struck between "
+        "two floors (floor_b is the floor above it) and where along its height, (z - z_below)/h (0 and NaN "
+        "for slab-slab and slab-obstacle contacts)"
     )
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS
-    pairs.attrs["description"] = "contact candidates: the columns of the contact histories"
+    pairs.attrs["description"] = ("contact candidates: the columns of the contact histories; k_normal, k_tangential "
+                                  "as the law uses them (a struck storey's: in series with its columns' local "
+                                  "flexibility); storey_b, xi as in events")  # fmt: skip
     _dims(pairs, pair)
     common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step")
     _dataset(g, "normal_force", c.normal_force, "N", **common)
@@ -305,12 +309,13 @@ def _read_warnings(g: h5py.Group) -> list[dict[str, str]]:
 
 def _read_contact(g: h5py.Group) -> ContactResult:
     def table(name: str, dtype: np.dtype) -> np.ndarray:
-        """The table as `dtype`; a float column the file lacks (written before it existed) is NaN."""
+        """The table as `dtype`; a column the file lacks (written before it existed) is NaN if
+        a float, 0 if an integer."""
         raw = g[name][()]
         out = np.zeros(raw.shape, dtype)
         for field in dtype.names:
-            if field not in raw.dtype.names and dtype[field] == np.float64:
-                out[field] = np.nan
+            if field not in raw.dtype.names:
+                out[field] = np.nan if dtype[field] == np.float64 else 0
                 continue
             column = raw[field]
             out[field] = [v.decode() for v in column] if dtype[field] == object else column

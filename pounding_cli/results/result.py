@@ -107,14 +107,18 @@ EVENT_DTYPE = np.dtype(
         ("tangential_force_at_peak", np.float64),
         ("normal_x", np.float64),
         ("normal_y", np.float64),
+        ("storey_b", np.int64),
+        ("xi", np.float64),
     ]
 )
 """One row per contact episode. level / floor_b: 1-based floors of body A's and body B's
 buildings (floor_b 0 for an obstacle); t_end NaN if the contact lasted to the end; at the
 step of the peak normal force (time t_peak): x, y the action point (global, m),
 tangential_force_at_peak the tangential force on B along t = ẑ × n (N, signed) and
-normal_x, normal_y the unit normal n from A into B (global). Files written before these
-three columns existed read back with NaN in them."""
+normal_x, normal_y the unit normal n from A into B (global). A slab striking a neighbour's
+storey between two floors: storey_b is that storey (1-based; floor_b the floor above it) and xi
+where along its height, (z − z_below)/h; otherwise 0 and NaN. Files written before a column
+existed read it back as NaN (0 for storey_b)."""
 
 PAIR_DTYPE = np.dtype(
     [
@@ -125,6 +129,8 @@ PAIR_DTYPE = np.dtype(
         ("elevation", np.float64),
         ("k_normal", np.float64),
         ("k_tangential", np.float64),
+        ("storey_b", np.int64),
+        ("xi", np.float64),
     ]
 )
 """One row per contact candidate pair (the columns of the contact histories)."""

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from .jit import INTERNAL, REASSOCIATE, kernel, phase
 
-from .contact import contact_forces
+from .storey_bodies import forces_with_storeys
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
 from .peaks import update_peaks
 from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
@@ -201,13 +201,14 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plast
 @phase
 def _contact_phase(n, dt, motion, dv, contact):
     """Contact forces at t_n from the displaced outlines into contact.force (zero without
-    candidates): broad phase, narrow phase, impact law (contact.contact_forces), with the
+    candidates): broad phase, narrow phase, impact law (contact.contact_forces; struck storeys as virtual floors,
+    storey_bodies.py), with the
     dashpots' velocity v_n ≈ v_{n−½} + Δv_{n−1}/2 (dv still holds the last step's)."""
     contact.force[:] = 0.0
     if contact.law.a.size > 0:
         for d in range(motion.u.size - 3):
             contact.v_est[d] = motion.v_half[d] + 0.5 * dv[d]
-        if contact_forces(n, dt, motion.u, motion.v_half, contact.v_est, contact) > 0:
+        if forces_with_storeys(n, dt, motion.u, motion.v_half, contact.v_est, contact) > 0:
             motion.energy[ACC_CONTACT_STEPS] += 1.0
 
 

@@ -48,7 +48,7 @@ from .cdm import (
     storey_matvec_pair,
     write_output,
 )
-from .contact import contact_possible_within, contact_ruled_out_within
+from .storey_bodies import possible_within, ruled_out_within
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
 from .jit import INTERNAL, REASSOCIATE, kernel, phase
 from .peaks import peaks_between, settle_crests, update_peaks
@@ -165,12 +165,12 @@ def _free_span(k, k_stop, yielded, grid, propagators, exact, motion, contact, yi
     u, v, a_rel = motion.u, exact.v, exact.a_rel
     double = (propagators.double.phi.shape[0] > 0 and k + 2 <= min(k_stop, grid.end) and (k + 1) % grid.per_output != 0
               and (k + 1) % grid.per_record != 0 and yielded == 0
-              and not (has_pairs and contact_possible_within(ENTER_HORIZON * 2.0 * h, u, v, a_rel, contact))
+              and not (has_pairs and possible_within(ENTER_HORIZON * 2.0 * h, u, v, a_rel, contact))
               and not (has_members and yield_possible_within(ENTER_HORIZON * 2.0 * h, u, v, a_rel, yielding.law,
                                                              yielding.plastic)))  # fmt: skip
     if double:
         return 2, False, False
-    contact_soon = has_pairs and contact_possible_within(ENTER_HORIZON * h, u, v, a_rel, contact)
+    contact_soon = has_pairs and possible_within(ENTER_HORIZON * h, u, v, a_rel, contact)
     may_yield = has_members and (yielded > 0 or yield_possible_within(ENTER_HORIZON * h, u, v, a_rel, yielding.law,
                                                                       yielding.plastic))  # fmt: skip
     return (0 if contact_soon or may_yield else 1), contact_soon, may_yield
@@ -239,10 +239,10 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
     for d in range(structure.mass.size):
         a_rel[d] = work.dv[d] / step.dt  # the CDM's acceleration at the last step
     if progress.mode[0] == MODE_CDM:  # leave once no contact is possible; the exact branch then decides
-        leave = contact.broad.n_live[0] == 0 and not contact_possible_within(  # (contact_forces counts live pairs)
+        leave = contact.broad.n_live[0] == 0 and not possible_within(  # (contact_forces counts live pairs)
             LEAVE_HORIZON * h, u, v_half, a_rel, contact)  # fmt: skip
     else:  # leave when a contact may begin (to come back at the contact step) or nothing can yield
-        leave = (contact.law.a.size > 0 and contact_possible_within(ENTER_HORIZON * h, u, v_half, a_rel, contact)
+        leave = (contact.law.a.size > 0 and possible_within(ENTER_HORIZON * h, u, v_half, a_rel, contact)
                  ) or not yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, yielding.law,
                                                 yielding.plastic)  # fmt: skip
     if leave:
@@ -277,7 +277,7 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
         t_pos = t + pos * h_fine
         if mode[0] == MODE_APPROACH:
             size = fine >> level
-            if not contact_ruled_out_within(ENTER_HORIZON * size * h_fine, u, v_exact, a_rel, contact):
+            if not ruled_out_within(ENTER_HORIZON * size * h_fine, u, v_exact, a_rel, contact):
                 if level < levels:
                     level += 1
                     continue
@@ -313,7 +313,7 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
         pos += 1
         for d in range(structure.mass.size):
             a_rel[d] = work.dv[d] / step.dt  # the CDM's acceleration at the last step
-        if contact.broad.n_live[0] > 0 or not contact_ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel,
+        if contact.broad.n_live[0] > 0 or not ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel,
                                                                        contact):  # fmt: skip
             continue
         if pos < fine and has_members and yield_possible_within(LEAVE_HORIZON * grid.h, u, v_half, a_rel,

@@ -35,6 +35,7 @@ from .records import (
     Progress,
     Propagator,
     Propagators,
+    StoreyBodies,
     Structure,
     Substeps,
     Work,
@@ -109,6 +110,10 @@ class ContactData(Protocol):
     pair_zeta: np.ndarray
     pair_ct: np.ndarray
     pair_meff: np.ndarray
+    storey_below: np.ndarray
+    storey_above: np.ndarray
+    storey_shape: np.ndarray
+    storey_arm: np.ndarray
 
 
 class NoContact:
@@ -124,6 +129,10 @@ class NoContact:
         self.pair_b = np.zeros(0, dtype=np.int64)
         for name in ("kn", "kt", "mu_s", "mu_k", "cn", "zeta", "ct", "meff"):
             setattr(self, f"pair_{name}", np.zeros(0))
+        self.storey_below = np.zeros(0, dtype=np.int64)
+        self.storey_above = np.zeros(0, dtype=np.int64)
+        self.storey_shape = np.zeros(0)
+        self.storey_arm = np.zeros((0, 2))
 
 
 class NoMembers:
@@ -501,6 +510,7 @@ def contact_state(contact: ContactData, n_dof: int, sweep: bool | None = None) -
     c = contact
     box = bounding_boxes(c)
     n_pairs = c.pair_a.size
+    n_storeys = getattr(c, "storey_shape", np.zeros(0)).size
     return Contact(
         Bodies(c.body_poly, c.body_nv, c.body_floor, c.body_centre, c.body_radius, box),
         PairLaw(c.pair_a, c.pair_b, c.pair_kn, c.pair_kt, c.pair_mu_s, c.pair_mu_k, c.pair_cn, c.pair_zeta, c.pair_ct,
@@ -510,10 +520,23 @@ def contact_state(contact: ContactData, n_dof: int, sweep: bool | None = None) -
         np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS))),
         np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS)),
         np.zeros(1, dtype=np.int64),
-        np.zeros(n_dof + 3),
+        np.zeros(n_dof + 3 + 3 * n_storeys),
         np.zeros(n_dof + 3),
         contact_kernel.buffers(int(c.body_poly.shape[1])),
+        storey_bodies(c, n_dof),
     )
+
+
+def storey_bodies(contact: ContactData, n_dof: int) -> StoreyBodies:
+    """The struck storeys as virtual floors (records.StoreyBodies, storey_bodies.py): the
+    ground's slot n_dof/3 stands for the floor below the first storey."""
+    none = NoContact()
+    shape, below, above, arm = (getattr(contact, name, getattr(none, name))
+                                for name in ("storey_shape", "storey_below", "storey_above", "storey_arm"))  # fmt: skip
+    size = n_dof + 3 + 3 * shape.size
+    return StoreyBodies(np.where(below < 0, n_dof // 3, below).astype(np.int64), above.astype(np.int64),
+                        shape.astype(float), np.ascontiguousarray(arm, dtype=float).reshape(-1, 2),
+                        np.zeros(size), np.zeros(size), np.zeros(size))  # fmt: skip
 
 
 def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:

@@ -236,6 +236,27 @@ class ClipWork(NamedTuple):
     """the contact frame of the last overlap (contact_geometry.RESULT_NAMES)"""
 
 
+class StoreyBodies(NamedTuple):
+    """The storeys that slabs strike between two floors, each moving as a virtual floor
+    (storey_bodies.py): k is floor n_floors + 1 + k of the extended state vectors, read as
+    (1 − s)·T·q_below + s·q_above."""
+
+    below: np.ndarray
+    """(n_s,) the floor below (an index of the state vectors: n_floors, the ground, for the first storey)"""
+    above: np.ndarray
+    """(n_s,) the floor above, whose slab is the outline"""
+    shape: np.ndarray
+    """(n_s,) s(ξ) = 3ξ² − 2ξ³"""
+    arm: np.ndarray
+    """(n_s, 2) G_above − G_below at rest, m"""
+    u: np.ndarray
+    """(n_dof + 3 + 3·n_s) work: a displacement vector extended by the virtual floors"""
+    v: np.ndarray
+    """(n_dof + 3 + 3·n_s) work: a velocity vector, extended"""
+    w: np.ndarray
+    """(n_dof + 3 + 3·n_s) work: a second velocity (or an acceleration) vector, extended"""
+
+
 class Contact(NamedTuple):
     """The contact candidates, their state from step to step, and the impact log."""
 
@@ -251,10 +272,12 @@ class Contact(NamedTuple):
     n_events: np.ndarray
     """(1,) episodes so far (beyond max_events: counted, not logged)"""
     force: np.ndarray
-    """(n_dof + 3) the contact forces of the step on the floors, N, N·m"""
+    """(n_dof + 3 + 3·n_s) the contact forces of the step on the floors, N, N·m (on the virtual
+    floors of storeys.u while the kernel runs; handed to the floors after)"""
     v_est: np.ndarray
     """(n_dof + 3) v_n ≈ v_{n−½} + Δv_{n−1}/2 for the dashpots, m/s"""
     clip: ClipWork
+    storeys: StoreyBodies
 
 
 class MemberLaw(NamedTuple):
