@@ -85,6 +85,23 @@ def test_local_flexibility_is_the_clamped_columns_point_load_deflection(xi: floa
     assert pound == pytest.approx(static_point_load(ei, h, xi, 16)["deflection"], rel=1e-10)
 
 
+@pytest.mark.parametrize("xi", [0.1, 0.25, 0.5, 0.9])
+def test_fixed_end_forces_are_the_clamped_columns(xi: float) -> None:
+    """The impact's share of a struck column's end shears and moments (fixed–fixed point load,
+    column_demand.fixed_end_forces) against the support reactions of a clamped column of 16
+    Hermite elements under the same load (tests/fe_frame.py: exact for a load at a node), and
+    the moment under the load against statics (M_load = V_bottom·a − M_bottom): 1e-10 relative."""
+    from pounding_cli.results.column_demand import fixed_end_forces
+
+    ei, h, p = 21e9 * 0.35**4 / 12, 3.5, 1.0e5
+    v_bottom, v_top, m_bottom, m_top, m_load = fixed_end_forces(p, xi * h, h)
+    fe = static_point_load(ei, h, xi, 16, P=p)
+    assert (abs(fe["V_bottom"]), abs(fe["V_top"])) == pytest.approx((v_bottom, v_top), rel=1e-10)
+    assert (abs(fe["M_bottom"]), abs(fe["M_top"])) == pytest.approx((m_bottom, m_top), rel=1e-10)
+    assert v_bottom + v_top == pytest.approx(p, rel=1e-14)
+    assert m_load == pytest.approx(v_bottom * xi * h - m_bottom, rel=1e-10)
+
+
 def test_the_struck_columns_and_their_series_law_in_the_shipped_example() -> None:
     """inputs/mismatched_floors.toml: the low building's roof (9 m) strikes the tall building's
     façade x = 8 m in storey 3 (7–10.5 m) at ξ = 4/7, along its whole 8 m, where columns C7–C9
@@ -175,3 +192,23 @@ def test_slab_to_storey_becomes_slab_to_slab_at_the_floors(shift: float) -> None
     for name in ("left", "right"):
         a, s = aligned.buildings[name], shifted.buildings[name]
         assert s.peak_displacement == pytest.approx(a.peak_displacement, rel=1e-4, abs=1e-9)
+
+
+@pytest.mark.parametrize("capacity", [[0.0, 1e5], [1e5]])
+def test_a_shear_capacity_that_is_not_two_positive_forces_is_refused(tmp_path, capacity) -> None:
+    """shear_capacity is [V_x, V_y] in N, each > 0: anything else exits 2 naming the file and the field."""
+    import json
+    import subprocess
+    import sys
+    import tomllib
+
+    doc = tomllib.loads((ROOT / "inputs" / "mismatched_floors.toml").read_text())
+    doc["buildings"][0]["floors"][0]["column_grid"]["shear_capacity"] = capacity
+    for component in doc["excitation"]["record"].values():
+        if isinstance(component, dict):
+            component["file"] = str(ROOT / "inputs" / component["file"])
+    path = tmp_path / "model.json"
+    path.write_text(json.dumps(doc))
+    proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert str(path) in proc.stderr and "buildings[0].floors[0].column_grid.shear_capacity" in proc.stderr

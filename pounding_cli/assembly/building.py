@@ -40,6 +40,7 @@ class ColumnInstance:
     arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global axes)
     arm_top: np.ndarray  # offset from the top floor's mass centre, m (global axes)
     stiffness: np.ndarray | None = None  # (2, 2) lateral stiffness in global axes, fixed at both ends, N/m
+    shear_capacity: tuple[float, float] | None = None  # N, along the column's local x and y (the model's)
 
 
 @dataclass(frozen=True)
@@ -196,7 +197,7 @@ def assemble_building(
             arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
-            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], plan_k[-1]))
+            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], plan_k[-1], col.shear_capacity))
             if col.hysteresis is not None:
                 law = laws[col.hysteresis]
                 fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])

@@ -17,6 +17,7 @@ from .slab import SlabPolygon
 
 Width = Annotated[Real, Field(ge=0.001, le=50.0)]
 Section = tuple[Width, Width]
+ShearCapacity = tuple[Annotated[Positive, Field(le=1e12)], Annotated[Positive, Field(le=1e12)]]
 
 
 class Column(Strict):
@@ -46,6 +47,11 @@ class Column(Strict):
     hysteresis: Name | None = None
     """Name of the column's hysteretic law in [hysteresis]; absent: linear elastic."""
 
+    shear_capacity: ShearCapacity | None = None
+    """Shear strength [V_x, V_y] of the column along its local x and y axes, N (each > 0):
+    where a neighbour's slab strikes the column between its floors, pound reports the shear
+    demand against it (demand/capacity, `pound report`); absent: no ratio."""
+
 
 class ColumnGrid(Strict):
     """Columns at every crossing of grid lines x × y, named C1, C2, … along y first, then
@@ -70,6 +76,11 @@ class ColumnGrid(Strict):
 
     hysteresis: Name | None = None
     """Name of the generated columns' hysteretic law in [hysteresis]; absent: linear elastic."""
+
+    shear_capacity: ShearCapacity | None = None
+    """Shear strength [V_x, V_y] of every generated column along its local x and y axes, N
+    (each > 0), against which the shear a neighbour's slab puts into it is reported; absent:
+    no ratio."""
 
     prefix: Name = "C"
     """Prefix of the generated names: prefix + running number."""
@@ -128,6 +139,7 @@ class ColumnGrid(Strict):
                         angle=self.angle,
                         material=self.material,
                         hysteresis=self.hysteresis,
+                        shear_capacity=self.shear_capacity,
                     )
                 )
         return out

@@ -9,6 +9,7 @@ import numpy as np
 from ..assembly import BuildingArrays, ContactArrays, System
 from ..solver import Response
 from ..solver import contact as kernel
+from .column_demand import column_demand
 from .result import EVENT_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult, YieldingResult
 
 
@@ -71,8 +72,9 @@ def building_result(system: System, b: int, response: Response, column_offset: i
     )
 
 
-def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
-    """Contact histories and the impact log, with the pairs named."""
+def contact_result(contact: ContactArrays, response: Response, system: System | None = None) -> ContactResult:
+    """Contact histories and the impact log, with the pairs named, and what the slab–storey
+    impacts put into the struck columns (with the system)."""
     pairs = np.zeros(contact.n_pairs, PAIR_DTYPE)
     for p, info in enumerate(contact.pairs):
         pairs[p] = (info.body_a, info.floor_a, info.body_b, info.floor_b, info.elevation,
@@ -97,6 +99,9 @@ def contact_result(contact: ContactArrays, response: Response) -> ContactResult:
         action_point=h[:, :, [kernel.NOW_X, kernel.NOW_Y]],
         depth=h[:, :, kernel.NOW_DEPTH],
         events=events,
+        column_demand=(column_demand(system, contact, events, response.time,
+                                     response.displacement[:, : system.mass.size].reshape(response.time.size, -1, 3))
+                       if system is not None and contact.storeys else None),  # fmt: skip
     )
 
 
@@ -124,5 +129,5 @@ def collect(
         model_json=model_json,
         input_sha256=input_sha256,
         diagnostics=diagnostics,
-        contact=contact_result(contact, response) if contact is not None and contact.n_pairs else None,
+        contact=contact_result(contact, response, system) if contact is not None and contact.n_pairs else None,
     )

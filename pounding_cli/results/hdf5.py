@@ -28,6 +28,7 @@ from .result import (
     RunResult,
     YieldingResult,
 )
+from .column_demand import DEMAND_DTYPE, DEMAND_UNITS
 
 EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
@@ -185,6 +186,18 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
         "two floors (floor_b is the floor above it) and where along its height, (z - z_below)/h (0 and NaN "
         "for slab-slab and slab-obstacle contacts)"
     )
+    if c.column_demand.size:  # slab–storey impacts: what they put into the struck columns
+        demand = g.create_dataset("column_demand", data=c.column_demand.astype(h5_dtype(DEMAND_DTYPE)),
+                                  track_times=False)  # fmt: skip
+        _dims(demand, _scale(g, "demand", np.arange(c.column_demand.size), description="row of /impacts/column_demand"))
+        demand.attrs["units"] = DEMAND_UNITS
+        demand.attrs["description"] = (
+            "one row per slab-storey impact and struck column, at the impact's peak normal force: the "
+            "column's share of it, the impact's own end shears (local axes; the shear Q, force of the part "
+            "above a section on the part below) and moments by the fixed-fixed point-load formulas, the "
+            "column's whole end shears (with its storey's drift K*delta), its shear_capacity and the "
+            "demand/capacity ratio (NaN without a capacity)"
+        )
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS
     pairs.attrs["description"] = ("contact candidates: the columns of the contact histories; k_normal, k_tangential "
@@ -329,6 +342,7 @@ def _read_contact(g: h5py.Group) -> ContactResult:
         action_point=g["action_point"][()],
         depth=g["depth"][()],
         events=table("events", EVENT_DTYPE),
+        column_demand=table("column_demand", DEMAND_DTYPE) if "column_demand" in g else None,
     )
 
 

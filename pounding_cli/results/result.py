@@ -147,6 +147,13 @@ class ContactResult:
     action_point: np.ndarray  # (nt, n_pairs, 2) global, m (0 when apart)
     depth: np.ndarray  # (nt, n_pairs) m
     events: np.ndarray  # (n_events,) EVENT_DTYPE
+    column_demand: np.ndarray | None = None  # (n_rows,) column_demand.DEMAND_DTYPE: what slab–storey impacts put into the struck columns
+
+    def __post_init__(self) -> None:
+        if self.column_demand is None:
+            from .column_demand import DEMAND_DTYPE
+
+            self.column_demand = np.zeros(0, DEMAND_DTYPE)
 
     @classmethod
     def empty(cls, nt: int) -> "ContactResult":

@@ -1,0 +1,128 @@
+"""What each slab–storey impact puts into the columns it strikes (issue 23: column demand).
+
+A slab that strikes a storey at a = ξ·h above the floor below presses the columns of the struck
+façade (assembly/storey_contact.py), which deflect together: column i takes the share
+w_i = k_i / Σk of the contact force along each direction (k_i: its stiffness along the façade's
+normal n, or along the façade t, for friction). On a column clamped at both ends (h, b = h − a)
+a point load P gives the classical fixed-end reactions (Roark, fixed–fixed beam, point load):
+
+    V_bottom = P·b²(3a + b)/h³,   V_top = P·a²(a + 3b)/h³   (V_bottom + V_top = P),
+    M_bottom = P·a·b²/h²,         M_top = P·a²·b/h²,        M under the load = 2P·a²b²/h³.
+
+These are the impact's own share of the column's forces, at the step of the impact's peak normal
+force (with the friction logged there); they act on top of the shear the storey's drift puts
+into the column, K_i·δ_i, which is added at that instant from the stored floor motion (linear
+between output samples), so that `shear_*` is the column's whole shear at each end. Columns are
+massless here: with the struck column's own mass its local modes raise the instantaneous shear
+(theory §10, "What it leaves out").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..assembly import ContactArrays, System
+from ..assembly.columns import rigid_arm
+
+DEMAND_DTYPE = np.dtype(
+    [
+        ("event", np.int64),
+        ("building", object),
+        ("column", object),
+        ("storey", np.int64),
+        ("xi", np.float64),
+        ("t_peak", np.float64),
+        ("share", np.float64),
+        ("impact_shear_bottom_x", np.float64),
+        ("impact_shear_bottom_y", np.float64),
+        ("impact_shear_top_x", np.float64),
+        ("impact_shear_top_y", np.float64),
+        ("impact_moment_bottom", np.float64),
+        ("impact_moment_top", np.float64),
+        ("impact_moment_at_load", np.float64),
+        ("shear_bottom_x", np.float64),
+        ("shear_bottom_y", np.float64),
+        ("shear_top_x", np.float64),
+        ("shear_top_y", np.float64),
+        ("capacity_x", np.float64),
+        ("capacity_y", np.float64),
+        ("ratio", np.float64),
+    ]
+)
+"""One row per impact and struck column. event: row of /impacts/events; storey (1-based), xi;
+t_peak (s); share: of the normal force, the column's; impact_*: the impact's own part at the
+peak, shears along the column's local axes (N; the shear Q, the force of the part of the column
+above a section on the part below, just above its foot and just below its top) and moment
+magnitudes (N·m); shear_*: the column's whole shear at each end (the impact's plus its storey's
+drift, K·δ), local axes, N; capacity_*: the column's shear_capacity (NaN: none given);
+ratio: the largest |shear| / capacity over both ends and axes (NaN without a capacity)."""
+
+DEMAND_UNITS = "-, -, -, -, -, s, -, N, N, N, N, N*m, N*m, N*m, N, N, N, N, N, N, -"
+
+
+def fixed_end_forces(p: float, a: float, h: float) -> tuple[float, float, float, float, float]:
+    """(V_bottom, V_top, M_bottom, M_top, M_at_load) of a column of length h clamped at both
+    ends under a point load p at a from its foot (N, N·m; module docstring)."""
+    b = h - a
+    return (p * b * b * (3 * a + b) / h**3, p * a * a * (a + 3 * b) / h**3, p * a * b * b / h**2, p * a * a * b / h**2,
+            2 * p * a * a * b * b / h**3)  # fmt: skip
+
+
+def _at(time: np.ndarray, series: np.ndarray, t: float) -> np.ndarray:
+    """A (nt, k) history at t, linear between samples."""
+    return np.array([np.interp(t, time, series[:, k]) for k in range(series.shape[1])])
+
+
+def column_demand(system: System, contact: ContactArrays, events: np.ndarray, time: np.ndarray,
+                  displacement: np.ndarray) -> np.ndarray:  # fmt: skip
+    """DEMAND_DTYPE rows for every logged impact of a slab–storey pair (events: EVENT_DTYPE;
+    displacement: (nt, n_floors of all buildings, 3) the floors' motion, global axes)."""
+    rows = []
+    n_slab = contact.n_pairs - len(contact.storeys)
+    for k, e in enumerate(events):
+        p = int(e["pair"])
+        if p < n_slab:
+            continue
+        body = contact.storeys[p - n_slab]
+        struck = system.buildings[body.crossing.struck]
+        first = int(system.floor_start[body.crossing.struck])
+        h, xi = body.crossing.height, body.crossing.xi
+        normal = body.normal
+        along = np.array([-normal[1], normal[0]])
+        stiff_n = np.array([normal @ struck.columns[i].stiffness @ normal for i in body.columns])
+        stiff_t = np.array([along @ struck.columns[i].stiffness @ along for i in body.columns])
+        # the force on the struck body (B) is F_N·n_AB + F_T·t_AB: in the façade's frame, along
+        # its inward normal (−normal) and the façade
+        n_ab = np.array([e["normal_x"], e["normal_y"]])
+        f_t = float(e["tangential_force_at_peak"]) if np.isfinite(e["tangential_force_at_peak"]) else 0.0
+        force = float(e["peak_normal_force"]) * n_ab + f_t * np.array([-n_ab[1], n_ab[0]])
+        below = first + body.below if body.below >= 0 else -1
+        above = first + body.above
+        q_top = _at(time, displacement[:, above], float(e["t_peak"]))
+        q_bottom = _at(time, displacement[:, below], float(e["t_peak"])) if below >= 0 else np.zeros(3)
+        for j, i in enumerate(body.columns):
+            col = struck.columns[i]
+            share_n = stiff_n[j] / stiff_n.sum() if stiff_n.sum() > 0 else 0.0
+            share_t = stiff_t[j] / stiff_t.sum() if stiff_t.sum() > 0 else 0.0
+            load = share_n * (force @ normal) * normal + share_t * (force @ along) * along  # N, global
+            magnitude = float(np.hypot(*load))
+            v_bottom, v_top, m_bottom, m_top, m_load = fixed_end_forces(1.0, xi * h, h)
+            line = struck.column_lines[col.line]
+            angle = struck.rotation + np.radians(line.angle)
+            axes = np.array([[np.cos(angle), np.sin(angle)], [-np.sin(angle), np.cos(angle)]])  # rows: local x, y
+            # the storey's own shear in the column: K·δ, δ its top less its bottom
+            drift = rigid_arm(col.arm_top) @ q_top - rigid_arm(col.arm_bottom) @ q_bottom
+            storey = col.stiffness @ drift
+            # the shear Q(z) (the force of the part above a section on the part below): K·δ from
+            # the drift, all along; the load adds +V_bottom below it and −V_top above it
+            end_bottom = axes @ (storey + v_bottom * load)
+            end_top = axes @ (storey - v_top * load)
+            capacity = np.asarray(col.shear_capacity if col.shear_capacity is not None else (np.nan, np.nan))
+            ratio = np.nan
+            if np.all(np.isfinite(capacity)):
+                ratio = float(max(np.max(np.abs(end_bottom) / capacity), np.max(np.abs(end_top) / capacity)))
+            impact_bottom, impact_top = axes @ (v_bottom * load), axes @ (-v_top * load)
+            rows.append((k, struck.name, line.name, body.crossing.storey, xi, float(e["t_peak"]), share_n,
+                         *impact_bottom, *impact_top, m_bottom * magnitude, m_top * magnitude, m_load * magnitude,
+                         *end_bottom, *end_top, *capacity, ratio))  # fmt: skip
+    return np.array(rows, dtype=DEMAND_DTYPE) if rows else np.zeros(0, DEMAND_DTYPE)
