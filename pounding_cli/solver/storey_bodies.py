@@ -40,6 +40,14 @@ def extend(x, storeys, out):
 
 
 @phase
+def _extend_three(x, y, z, storeys):
+    """The three state vectors a contact kernel reads, extended into storeys.u, .v, .w."""
+    extend(x, storeys, storeys.u)
+    extend(y, storeys, storeys.v)
+    extend(z, storeys, storeys.w)
+
+
+@phase
 def hand_back(force, storeys, n):
     """Move the forces on the virtual floors (entries n… of force, n = n_dof + 3) to the floors
     above and below each storey, and clear them (nothing goes to the ground's slot)."""
@@ -71,9 +79,7 @@ def forces_with_storeys(n, dt, u, v_half, v_est, contact):
     storeys = contact.storeys
     if storeys.shape.size == 0:
         return contact_forces(n, dt, u, v_half, v_est, contact)
-    extend(u, storeys, storeys.u)
-    extend(v_half, storeys, storeys.v)
-    extend(v_est, storeys, storeys.w)
+    _extend_three(u, v_half, v_est, storeys)
     live = contact_forces(n, dt, storeys.u, storeys.v, storeys.w, contact)
     hand_back(contact.force, storeys, u.size)
     return live
@@ -85,9 +91,7 @@ def possible_within(horizon, u, v, acc, contact):
     storeys = contact.storeys
     if storeys.shape.size == 0:
         return contact_possible_within(horizon, u, v, acc, contact)
-    extend(u, storeys, storeys.u)
-    extend(v, storeys, storeys.v)
-    extend(acc, storeys, storeys.w)
+    _extend_three(u, v, acc, storeys)
     return contact_possible_within(horizon, storeys.u, storeys.v, storeys.w, contact)
 
 
@@ -97,7 +101,5 @@ def ruled_out_within(horizon, u, v, acc, contact):
     storeys = contact.storeys
     if storeys.shape.size == 0:
         return contact_ruled_out_within(horizon, u, v, acc, contact)
-    extend(u, storeys, storeys.u)
-    extend(v, storeys, storeys.v)
-    extend(acc, storeys, storeys.w)
+    _extend_three(u, v, acc, storeys)
     return contact_ruled_out_within(horizon, storeys.u, storeys.v, storeys.w, contact)
