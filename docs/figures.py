@@ -108,7 +108,10 @@ def seconds(value: float) -> str:
 
 
 def scene_of(name: str) -> tuple[str, str]:
-    """(bench file, scene) of a scene name: paper_kobe is in kobe.md, the others in bench.md."""
+    """(bench file, scene) of a scene name: paper_kobe is in kobe.md, the floors at different
+    heights and their aligned twin in floors/bench.md, the others in bench.md."""
+    if name in ("mismatched_floors", "aligned_floors"):
+        return "floors/bench", name
     return ("kobe", name) if name == "paper_kobe" else ("bench", name)
 
 
