@@ -23,6 +23,7 @@ import numpy as np
 
 from ..assembly import ContactArrays, System
 from ..assembly.columns import rigid_arm
+from ..assembly.storey_contact import StoreyBody
 
 DEMAND_DTYPE = np.dtype(
     [
@@ -68,9 +69,45 @@ def fixed_end_forces(p: float, a: float, h: float) -> tuple[float, float, float,
             2 * p * a * a * b * b / h**3)  # fmt: skip
 
 
-def _at(time: np.ndarray, series: np.ndarray, t: float) -> np.ndarray:
-    """A (nt, k) history at t, linear between samples."""
-    return np.array([np.interp(t, time, series[:, k]) for k in range(series.shape[1])])
+def _at(time: np.ndarray, series: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """A (nt, k) history at the times t, linear between samples: (len(t), k)."""
+    return np.stack([np.interp(t, time, series[:, k]) for k in range(series.shape[1])], axis=-1)
+
+
+def struck_column_shears(system: System, body: StoreyBody, column: int, t: np.ndarray, force: np.ndarray,
+                         time: np.ndarray, displacement: np.ndarray) -> dict[str, np.ndarray]:  # fmt: skip
+    """What the storey body's struck column `column` (index into its building's `columns`)
+    carries when the force `force` (len(t), 2; N, global, on the struck building) acts at the
+    times t (s): {"share": of the normal force, "load": (len(t), 2) its share, global, N,
+    "impact_bottom", "impact_top": the load's end shears, "bottom", "top": the whole end shears
+    with the storey's drift K·δ (len(t), 2 each; local axes, N)} (module docstring). The floors'
+    motion comes from `displacement` (nt, n_floors of all buildings, 3) at `time`, linear
+    between samples."""
+    struck = system.buildings[body.crossing.struck]
+    first = int(system.floor_start[body.crossing.struck])
+    normal = body.normal
+    along = np.array([-normal[1], normal[0]])
+    stiff_n = np.array([normal @ struck.columns[i].stiffness @ normal for i in body.columns])
+    stiff_t = np.array([along @ struck.columns[i].stiffness @ along for i in body.columns])
+    j = body.columns.index(column)
+    share_n = stiff_n[j] / stiff_n.sum() if stiff_n.sum() > 0 else 0.0
+    share_t = stiff_t[j] / stiff_t.sum() if stiff_t.sum() > 0 else 0.0
+    load = share_n * np.outer(force @ normal, normal) + share_t * np.outer(force @ along, along)
+    h, xi = body.crossing.height, body.crossing.xi
+    v_bottom, v_top, *_ = fixed_end_forces(1.0, xi * h, h)
+    col = struck.columns[column]
+    angle = struck.rotation + np.radians(struck.column_lines[col.line].angle)
+    axes = np.array([[np.cos(angle), np.sin(angle)], [-np.sin(angle), np.cos(angle)]])  # rows: local x, y
+    q_top = _at(time, displacement[:, first + body.above], t)
+    q_bottom = _at(time, displacement[:, first + body.below], t) if body.below >= 0 else np.zeros_like(q_top)
+    # the storey's own shear in the column, K·δ (δ: its top less its bottom); the shear Q(z), the
+    # force of the part above a section on the part below, is K·δ all along, and the load adds
+    # +V_bottom below it and −V_top above it
+    drift = q_top @ rigid_arm(col.arm_top).T - q_bottom @ rigid_arm(col.arm_bottom).T
+    storey = drift @ col.stiffness.T
+    impact_bottom, impact_top = (v_bottom * load) @ axes.T, (-v_top * load) @ axes.T
+    return {"share": share_n, "load": load, "impact_bottom": impact_bottom, "impact_top": impact_top,
+            "bottom": storey @ axes.T + impact_bottom, "top": storey @ axes.T + impact_top}  # fmt: skip
 
 
 def column_demand(system: System, contact: ContactArrays, events: np.ndarray, time: np.ndarray,
@@ -85,44 +122,20 @@ def column_demand(system: System, contact: ContactArrays, events: np.ndarray, ti
             continue
         body = contact.storeys[p - n_slab]
         struck = system.buildings[body.crossing.struck]
-        first = int(system.floor_start[body.crossing.struck])
         h, xi = body.crossing.height, body.crossing.xi
-        normal = body.normal
-        along = np.array([-normal[1], normal[0]])
-        stiff_n = np.array([normal @ struck.columns[i].stiffness @ normal for i in body.columns])
-        stiff_t = np.array([along @ struck.columns[i].stiffness @ along for i in body.columns])
-        # the force on the struck body (B) is F_N·n_AB + F_T·t_AB: in the façade's frame, along
-        # its inward normal (−normal) and the façade
+        # the force on the struck body (B): F_N·n + F_T·t (t = ẑ × n), at the logged peak
         n_ab = np.array([e["normal_x"], e["normal_y"]])
         f_t = float(e["tangential_force_at_peak"]) if np.isfinite(e["tangential_force_at_peak"]) else 0.0
-        force = float(e["peak_normal_force"]) * n_ab + f_t * np.array([-n_ab[1], n_ab[0]])
-        below = first + body.below if body.below >= 0 else -1
-        above = first + body.above
-        q_top = _at(time, displacement[:, above], float(e["t_peak"]))
-        q_bottom = _at(time, displacement[:, below], float(e["t_peak"])) if below >= 0 else np.zeros(3)
-        for j, i in enumerate(body.columns):
+        force = (float(e["peak_normal_force"]) * n_ab + f_t * np.array([-n_ab[1], n_ab[0]]))[None, :]
+        t = np.array([float(e["t_peak"])])
+        for i in body.columns:
             col = struck.columns[i]
-            share_n = stiff_n[j] / stiff_n.sum() if stiff_n.sum() > 0 else 0.0
-            share_t = stiff_t[j] / stiff_t.sum() if stiff_t.sum() > 0 else 0.0
-            load = share_n * (force @ normal) * normal + share_t * (force @ along) * along  # N, global
-            magnitude = float(np.hypot(*load))
-            v_bottom, v_top, m_bottom, m_top, m_load = fixed_end_forces(1.0, xi * h, h)
-            line = struck.column_lines[col.line]
-            angle = struck.rotation + np.radians(line.angle)
-            axes = np.array([[np.cos(angle), np.sin(angle)], [-np.sin(angle), np.cos(angle)]])  # rows: local x, y
-            # the storey's own shear in the column: K·δ, δ its top less its bottom
-            drift = rigid_arm(col.arm_top) @ q_top - rigid_arm(col.arm_bottom) @ q_bottom
-            storey = col.stiffness @ drift
-            # the shear Q(z) (the force of the part above a section on the part below): K·δ from
-            # the drift, all along; the load adds +V_bottom below it and −V_top above it
-            end_bottom = axes @ (storey + v_bottom * load)
-            end_top = axes @ (storey - v_top * load)
+            shears = struck_column_shears(system, body, i, t, force, time, displacement)
+            _, _, m_bottom, m_top, m_load = fixed_end_forces(float(np.hypot(*shears["load"][0])), xi * h, h)
+            bottom, top = shears["bottom"][0], shears["top"][0]
             capacity = np.asarray(col.shear_capacity if col.shear_capacity is not None else (np.nan, np.nan))
-            ratio = np.nan
-            if np.all(np.isfinite(capacity)):
-                ratio = float(max(np.max(np.abs(end_bottom) / capacity), np.max(np.abs(end_top) / capacity)))
-            impact_bottom, impact_top = axes @ (v_bottom * load), axes @ (-v_top * load)
-            rows.append((k, struck.name, line.name, body.crossing.storey, xi, float(e["t_peak"]), share_n,
-                         *impact_bottom, *impact_top, m_bottom * magnitude, m_top * magnitude, m_load * magnitude,
-                         *end_bottom, *end_top, *capacity, ratio))  # fmt: skip
+            ratio = float(max(np.max(np.abs(bottom) / capacity), np.max(np.abs(top) / capacity)))
+            rows.append((k, struck.name, struck.column_lines[col.line].name, body.crossing.storey, xi, t[0],
+                         shears["share"], *shears["impact_bottom"][0], *shears["impact_top"][0], m_bottom, m_top,
+                         m_load, *bottom, *top, *capacity, ratio))  # fmt: skip
     return np.array(rows, dtype=DEMAND_DTYPE) if rows else np.zeros(0, DEMAND_DTYPE)
