@@ -212,3 +212,31 @@ def test_a_shear_capacity_that_is_not_two_positive_forces_is_refused(tmp_path, c
     proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
     assert proc.returncode == 2
     assert str(path) in proc.stderr and "buildings[0].floors[0].column_grid.shear_capacity" in proc.stderr
+
+
+def test_the_plan_view_moves_a_struck_storey_as_the_solver_does(tmp_path) -> None:
+    """The report's struck-storey outline (report/geometry.storey_displacement_at) moves as the
+    solver's virtual floor (solver/storey_bodies.extend) for the stored floor motion at a sample:
+    both are (1 − s)·T·q_below + s·q_above, written twice (to 1e-15 m)."""
+    import tomllib
+
+    from pounding_cli.report import open_run
+    from pounding_cli.report.geometry import plan_geometry, storey_displacement_at
+    from pounding_cli.solver.integrate import storey_bodies
+
+    doc = tomllib.loads((ROOT / "inputs" / "mismatched_floors.toml").read_text())
+    doc["analysis"]["duration"] = 14.0
+    run_model(load_doc(doc), output=tmp_path / "m.h5")
+    run = open_run(tmp_path / "m.h5")
+    geometry = plan_geometry(run)
+    scene = prepare(load_doc(doc))
+    sample = int(round(13.85 / run.result.time[1]))  # during the impacts
+    t = float(run.result.time[sample])
+    x = np.concatenate([b.displacement[sample].ravel() for b in run.result.buildings.values()] + [np.zeros(3)])
+    storeys = storey_bodies(scene.contact, x.size - 3)
+    out = np.zeros(storeys.u.size)
+    _extend(x, storeys, out)
+    for k, body in enumerate(scene.contact.storeys):
+        name = scene.system.buildings[body.crossing.struck].name
+        report = storey_displacement_at(run, geometry, name, body.crossing.storey, body.crossing.xi, t)
+        assert report == pytest.approx(out[x.size + 3 * k : x.size + 3 * k + 3], abs=1e-15)

@@ -24,7 +24,7 @@ from ..errors import InputError
 from .document import G
 from .geometry import nice_magnification, plan_geometry
 from .load import Run
-from .plan import LevelView, peak_instant, select_levels
+from .plan import LevelView, peak_instant, select_levels, touched
 from .style import IMPACT_COLOUR, figure
 
 DEFAULT_WINDOW_S = 6.0
@@ -162,8 +162,8 @@ class PlanMovie:
         half = 0.5 * float(r.time[self.frames[1]] - r.time[self.frames[0]]) if self.frames.size > 1 else 0.0
         ends = np.where(np.isnan(events["t_end"]), np.inf, events["t_end"])
         active = events[(events["t_start"] <= t + half) & (ends >= t - half)]
-        touching = {(str(e["body_a"]), int(e["level"])) for e in active}
-        touching |= {(str(e["body_b"]), int(e["floor_b"])) for e in active}
+        touching = set().union(*(touched((str(e["body_a"]), int(e["level"])), (str(e["body_b"]), int(e["floor_b"])),
+                                         int(e["storey_b"])) for e in active))  # fmt: skip
         for view in self.views:
             view.update(t, touching)
         self.cursor.set_xdata([t, t])

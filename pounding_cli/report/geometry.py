@@ -129,6 +129,20 @@ def point_displacement(slab: Slab, u: np.ndarray, point: np.ndarray) -> np.ndarr
     return np.array([ux + (c - 1) * rel[0] - s * rel[1], uy + s * rel[0] + (c - 1) * rel[1]])
 
 
+def storey_displacement_at(run: Run, geometry: PlanGeometry, building: str, storey: int, xi: float, t: float) -> np.ndarray:
+    """(u_x, u_y, θ) at time t (s) of a storey's outline struck at ξ, referred to the mass centre
+    of the floor above it (1-based storey): (1 − s)·T·q_below + s·q_above with
+    s = 3ξ² − 2ξ³ (theory §10, "Floors at different heights"; the ground below storey 1)."""
+    s = 3 * xi * xi - 2 * xi**3
+    above = displacement_at(run, building, storey, t)
+    if storey == 1:
+        return s * above
+    below = displacement_at(run, building, storey - 1, t)
+    d = geometry.slab(building, storey).centre - geometry.slab(building, storey - 1).centre
+    carried = np.array([below[0] - below[2] * d[1], below[1] + below[2] * d[0], below[2]])
+    return (1 - s) * carried + s * above
+
+
 def displacement_at(run: Run, building: str, floor: int, t: float) -> np.ndarray:
     """(u_x, u_y, θ) of a floor (1-based) at time t (s), linear between stored samples."""
     u = run.result.buildings[building].displacement[:, floor - 1, :]

@@ -30,7 +30,10 @@ from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
-from .geometry import PlanGeometry, displacement_at, moved, nice_magnification, plan_geometry, point_displacement
+from ..assembly.levels import LEVEL_TOLERANCE
+from .geometry import (
+    PlanGeometry, displacement_at, moved, nice_magnification, plan_geometry, point_displacement, storey_displacement_at,
+)  # fmt: skip
 from .load import Run
 from .style import IMPACT_COLOUR, colour, figure
 
@@ -67,6 +70,12 @@ class Instant:
 
 def _pair_bodies(pair: np.void) -> tuple[tuple[str, int], tuple[str, int]]:
     return (str(pair["body_a"]), int(pair["floor_a"])), (str(pair["body_b"]), int(pair["floor_b"]))
+
+
+def touched(a: tuple[str, int], b: tuple[str, int], storey: int) -> set[tuple[str, int]]:
+    """What a contact touches, as LevelView.update takes it: (building, floor) of each slab, and
+    for a storey struck between two floors (storey > 0) (building, −storey) instead of B's."""
+    return {a, (b[0], -storey) if storey else b}
 
 
 def _outline(run: Run, geometry: PlanGeometry, body: tuple[str, int], t: float) -> np.ndarray:
@@ -167,6 +176,22 @@ class LevelView:
             ax.add_patch(patch)
             self.patches.append(patch)
             self.edges.append(edge)
+        # the storeys that this level's slabs strike between a neighbour's floors: the outline of
+        # the floor above, moving with the storey at ξ (dotted)
+        self.storeys = []
+        for pair in run.result.contact.pairs:
+            if int(pair["storey_b"]) and abs(float(pair["elevation"]) - z) < LEVEL_TOLERANCE:
+                key = (str(pair["body_b"]), int(pair["storey_b"]), float(pair["xi"]))
+                if key in [k for k, _ in self.storeys]:
+                    continue
+                slab = geometry.slab(key[0], key[1])
+                edge = colour(names.index(key[0]))
+                patch = Polygon(slab.outline, closed=True, fill=False, edgecolor=edge, lw=1.2, ls=":")
+                ax.add_patch(patch)
+                ax.annotate(f"{key[0]} storey {key[1]} (ξ {key[2]:.2f})", xy=slab.outline.mean(axis=0), ha="center",
+                            va="center", fontsize="x-small", color=edge)  # fmt: skip
+                self.storeys.append((key, patch))
+        self.geometry = geometry
         (self.centres,) = ax.plot([], [], "k.", ms=4)
         lo, hi = geometry.extent()
         lo, hi = lo - margin, hi + margin
@@ -187,6 +212,11 @@ class LevelView:
             patch.set_edgecolor(IMPACT_COLOUR if hit else edge)
             patch.set_linewidth(2.2 if hit else 1.2)
             centres.append(s.centre + self.magnify * u[:2])
+        for (building, storey, xi), patch in self.storeys:
+            slab = self.geometry.slab(building, storey)
+            patch.set_xy(moved(slab, storey_displacement_at(self.run, self.geometry, building, storey, xi, t), self.magnify))
+            hit = (building, -storey) in touching
+            patch.set_edgecolor(IMPACT_COLOUR if hit else colour(list(self.run.result.buildings).index(building)))
         if centres:
             self.centres.set_data(*np.array(centres).T)
 
@@ -236,7 +266,8 @@ def plan_figure(
     aspect = float((hi - lo)[1] + 0.2 * size) / float((hi - lo)[0] + 0.2 * size)
     fig = figure(5.0 * ncols, max(2.5, 5.0 * aspect + 0.8) * nrows + 0.6)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False)).ravel()
-    touching = {body for m in instant.contacts for body in (m.a, m.b)}
+    pairs = run.result.contact.pairs
+    touching = set().union(*(touched(m.a, m.b, int(pairs[m.pair]["storey_b"])) for m in instant.contacts))
     fmax = max((max(abs(m.f_normal), abs(m.f_tangential or 0.0)) for m in instant.contacts), default=0.0)
     scale = ARROW_FRACTION * size / fmax if fmax > 0 else 0.0
     for ax, (k, z) in zip(axes, chosen):
