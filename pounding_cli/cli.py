@@ -20,7 +20,7 @@ from rich.table import Table
 
 from . import __version__
 from .atomic import write_text
-from .errors import PoundError
+from .errors import InputError, PoundError
 
 app = typer.Typer(no_args_is_help=True, pretty_exceptions_enable=False)
 
@@ -141,6 +141,11 @@ def validate(
     file: Annotated[Path, typer.Argument(metavar="FILE", help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
     json_: JsonOpt = False,
     strict: StrictOpt = False,
+    plot: Annotated[
+        Path | None,
+        typer.Option("--plot", metavar="FILE", help="A model: also draw its geometry at rest, a plan with the gaps "
+                     "dimensioned and an elevation of the floor levels side by side (.png, .pdf, .svg)."),
+    ] = None,
 ) -> None:
     """Check a model, record definition or sweep file and print what it resolves to."""
     from .model import read_document
@@ -149,12 +154,17 @@ def validate(
     with reported():
         data = read_document(file)
         kind = document_kind(data)
+        if plot is not None and kind != "model":
+            raise InputError(f"--plot draws a model's geometry at rest, and this is a {kind} file"
+                             + ("; pound record --plot draws a record" if kind == "record" else ""), file=file)  # fmt: skip
         if kind == "record":
             _validate_record(file, data, json_)
         elif kind == "sweep":
             _validate_sweep(file, data, json_, strict)
         else:
-            _validate_model(file, data, json_, strict)
+            _validate_model(file, data, json_, strict, plot)
+    if plot is not None:
+        err.print(f"wrote {plot}", markup=False)
 
 
 def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
@@ -168,12 +178,20 @@ def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
         err.print(f"{w['file']}: {w['field']}: {w['message']}", markup=False)
 
 
-def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
-    from .api import describe
+def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool, plot: Path | None) -> None:
+    from .api import describe_scene, prepare
     from .model import validate_model
 
-    info = describe(validate_model(data, file))
+    scene = prepare(validate_model(data, file))
+    info = describe_scene(scene)
     _warn(info["warnings"], strict)
+    if plot is not None:
+        from .gap.rest_plot import rest_figure
+        from .outputs import refuse_inputs
+        from .report.style import save_figure
+
+        refuse_inputs(plot, [(file, "the model being validated")], "another file for the plot (--plot)")
+        save_figure(rest_figure(scene.system, scene.loaded.model.all_obstacles(), info["contact"]), plot)
     if json_:
         print(json.dumps(info, indent=2))
     else:
@@ -571,8 +589,6 @@ def report(
         _refuse_reading_what_is_written(paths, [html, animate])
         if sweep_folder is not None:
             if len(paths) > 1:
-                from .errors import InputError
-
                 raise InputError("give one sweep folder, or result files: not both, and one folder at a time",
                                  field="PATHS")  # fmt: skip
             docs, written, blocks = _sweep_report(sweep_folder, column, plots, format, html, x, y, case, study)
@@ -841,6 +857,15 @@ def _print_summary(s: dict[str, Any]) -> None:
             )
 
 
+def _placement(b: dict[str, Any]) -> str:
+    """'placed 0.05 m beside left on its +x side (align min): origin (8.05, 0) m, rotation 0°'."""
+    p = b["place"]
+    extra = "".join([f", offset {p['offset']:g} m" if p["offset"] else "",
+                     f", turned {p['rotation']:g}°" if p["rotation"] else ""])  # fmt: skip
+    return (f"placed {p['gap']:g} m beside {p['beside']} on its {p['side']} side (align {p['align']}{extra}): "
+            f"origin ({b['origin_m'][0]:.10g}, {b['origin_m'][1]:.10g}) m, rotation {b['rotation_deg']:.10g}°")
+
+
 def _floor_groups(b: dict[str, Any]) -> list[str]:
     """'floors 1-4: m = 64 t, J = 6.827e+05 kg·m²', one line per run of alike floors."""
     rows = list(zip(b["floor_masses_kg"], b["rotational_inertia_kgm2"]))
@@ -858,23 +883,30 @@ CANDIDATE_ROWS = 20
 
 
 def _print_candidates(c: dict[str, Any]) -> None:
-    """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and clear
-    distance at rest; slab–storey candidates said to be not simulated yet (neighbours that
-    cannot meet are a plausibility warning, plausibility.unmet_neighbours)."""
+    """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and the
+    geometry at rest: clear distance, its direction and the closest points (gap.rest);
+    slab–storey candidates said to be not simulated yet (neighbours that cannot meet are a
+    plausibility warning, plausibility.unmet_neighbours)."""
+    from .gap.rest import compass
+
     rows = [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} floor {p['floor_b']}" if p["floor_b"] else p["body_b"],
-             p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"]]  # fmt: skip
+             p["kind"], p["elevation_m"], "—", p) for p in c["pairs"]]  # fmt: skip
     rows += [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} storey {p['storey_b']}", p["kind"],
-              p["elevation_m"], f"{p['xi']:.3f}", p["clear_distance_m"]) for p in c["storey_crossings"]]  # fmt: skip
+              p["elevation_m"], f"{p['xi']:.3f}", p) for p in c["storey_crossings"]]  # fmt: skip
     if rows:
         table = Table(title="contact candidates at rest", title_justify="left")
         for col, justify in (("slab", "left"), ("meets", "left"), ("kind", "left"), ("z (m)", "right"),
-                             ("ξ", "right"), ("clear (m)", "right")):  # fmt: skip
+                             ("ξ", "right"), ("clear (m)", "right"), ("towards", "right"),
+                             ("closest points (m)", "left")):  # fmt: skip
             table.add_column(col, justify=justify)  # type: ignore[arg-type]
-        for a, b, kind, z, xi, d in rows[:CANDIDATE_ROWS]:
-            table.add_row(a, b, kind.replace("-", "–"), f"{z:g}", xi, f"{d:.4g}")
+        for a, b, kind, z, xi, p in rows[:CANDIDATE_ROWS]:
+            (xa, ya), (xb, yb) = p["closest_points_m"]
+            table.add_row(a, b, kind.replace("-", "–"), f"{z:g}", xi, f"{p['clear_distance_m']:.4g}",
+                          compass(p["direction_x_y"]), f"({xa:.4g}, {ya:.4g}) → ({xb:.4g}, {yb:.4g})")  # fmt: skip
         out.print(table, soft_wrap=False)
         out.print("  z: elevation; ξ: where in the storey struck (0 at its floor below, 1 at the floor above); "
-                  "clear: distance in plan", markup=False)  # fmt: skip
+                  "clear: distance in plan, towards: its direction from the slab to what it meets (global axes), "
+                  "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
     if c["storey_crossings"]:
@@ -894,6 +926,8 @@ def _print_description(info: dict[str, Any]) -> None:
                      if b["isolators"] else "")
                   + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
                      if b["moat"] else ""))  # fmt: skip
+        if b["place"] is not None:
+            out.print(f"  {_placement(b)}", markup=False)
         for line in _floor_groups(b):
             out.print(f"  {line}", markup=False)
         table = Table()
