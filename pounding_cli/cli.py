@@ -283,14 +283,14 @@ def _print_gaps(result: Any) -> None:
     if not result.pairs:
         out.print("no contact candidates: nothing can touch", markup=False)
         return
-    table = Table(title="required separation (contact off, exact for convex outlines)", title_justify="left")
-    for col in ("pair", "kind", "z (m)", "gap (mm)", "required (mm)", "t* (s)", "margin (mm)", "ABS (mm)", "SRSS (mm)", "DDC (mm)", "ρ"):
-        table.add_column(col, justify="left" if col in ("pair", "kind") else "right")
+    table = Table(title="required separation in mm (contact off; exact for convex outlines)", title_justify="left")
+    for col in ("pair", "z (m)", "gap", "required", "t* (s)", "margin", "ABS", "SRSS", "DDC", "ρ"):
+        table.add_column(col, justify="left" if col == "pair" else "right")
     for p in result.pairs:
-        ratio = (lambda v: f"{1e3 * v:.4g} ({v / p.required:.2f}×)") if p.required > 0 else (lambda v: f"{1e3 * v:.4g}")
-        table.add_row(pair_label(p), p.kind.replace("-", "–") + ("" if p.simulated else " *"), f"{p.elevation:g}",
-                      f"{1e3 * p.clear_distance:.4g}", f"{1e3 * p.required:.5g}", f"{p.time:.4f}", f"{1e3 * p.margin:+.4g}",
-                      ratio(p.abs), ratio(p.srss), ratio(p.ddc), f"{p.rho:.3f}")  # fmt: skip
+        ratio = (lambda v: f"{1e3 * v:.4g} ×{v / p.required:.2f}") if p.required > 0 else (lambda v: f"{1e3 * v:.4g}")
+        table.add_row(pair_label(p) + ("" if p.simulated else " *"), f"{p.elevation:g}", f"{1e3 * p.clear_distance:.4g}",
+                      f"{1e3 * p.required:.5g}", f"{p.time:.4f}", f"{1e3 * p.margin:+.4g}", ratio(p.abs), ratio(p.srss),
+                      ratio(p.ddc), f"{p.rho:.3f}")  # fmt: skip
     out.print(table, soft_wrap=False)
     g = result.pairs[result.governing]
     verdict = "they meet at the gap as built" if g.margin < 0 else "they never meet at the gap as built"

@@ -101,11 +101,15 @@ class GapResult:
 
 def contact_free(loaded):  # type: ignore[no-untyped-def]
     """The model with contact off and histories every SAMPLE s at most."""
-    m = loaded.model
+    m = contact_on(loaded, False).model
     interval = min(m.analysis.output_interval, SAMPLE)
-    model = m.model_copy(update={"contact": m.contact.model_copy(update={"enabled": False}),
-                                 "analysis": m.analysis.model_copy(update={"output_interval": interval})})  # fmt: skip
-    return replace(loaded, model=model)
+    return replace(loaded, model=m.model_copy(update={"analysis": m.analysis.model_copy(update={"output_interval": interval})}))
+
+
+def contact_on(loaded, enabled: bool = True):  # type: ignore[no-untyped-def]
+    """The model with contact switched on (or off)."""
+    m = loaded.model
+    return replace(loaded, model=m.model_copy(update={"contact": m.contact.model_copy(update={"enabled": enabled})}))
 
 
 def candidate_bodies(scene) -> list[tuple[dict[str, Any], Body, Body]]:  # type: ignore[no-untyped-def]
@@ -148,6 +152,8 @@ def required_gaps(model, progress=None) -> GapResult:  # type: ignore[no-untyped
     from ..errors import AnalysisFailed
 
     scene = model if isinstance(model, Scene) else prepare(_loaded(model))
+    if not scene.loaded.model.contact.enabled:  # the candidates are those contact on would check
+        scene = prepare(contact_on(scene.loaded))
     free = prepare(contact_free(scene.loaded))
     run = execute(free, None, progress)
     if not run.complete:
