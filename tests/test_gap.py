@@ -4,7 +4,8 @@ Checked against independent references:
 - the ray cast (approach.push_out) against the polygon Minkowski difference (minkowski.line_exit)
   and shapely's distance of the pushed outlines (1e-12 m: a few products of coordinates of ~10 m);
 - for translation along x only, the needed gap at each sample against the floors' own
-  displacements, clear distance + u_x,A − u_x,B (1e-12 m);
+  displacements, u_x,A − u_x,B, and for a struck storey the column shape's interpolation of
+  its two floors (1e-12 m);
 - the refinement between samples: a convergence-order test, at least sixth order in the sample
   interval, as the quintic Hermite interpolant's error (ω·h)⁶/46080 says;
 - bisection with contact on (the issue's test): at required × (1 + 1e-6) no impact, at
@@ -91,6 +92,28 @@ def test_translation_only_needs_the_difference_of_the_floor_displacements() -> N
         expected = left[:, p.floor_a - 1, 0] - right[:, p.floor_b - 1, 0]
         np.testing.assert_allclose(result.approach[:, k], expected, rtol=0, atol=1e-12)
         assert result.approach[:, k].max() <= p.required <= result.approach[:, k].max() + 1e-4
+
+
+def test_a_storey_moves_by_the_column_shape_between_its_floors() -> None:
+    """Slab–storey pairs of the shipped mismatched floors under X alone (no twist): the gap each
+    needs at a sample is u_x of the slab's floor minus, for the struck storey between floors
+    j − 1 and j at ξ, (1 − s)·u_x,j−1 + s·u_x,j with s = 3ξ² − 2ξ³ (u = 0 at the ground), signs
+    by the side the struck building stands on (1e-12 m). They are measured, not simulated."""
+    doc = read_document(INPUTS / "mismatched_floors.toml")
+    doc["excitation"]["components"] = ["L"]
+    doc["analysis"]["duration"] = 8.0
+    result = required_gaps(load_doc(doc))
+    u = {n: result.run.buildings[n].displacement[..., 0] for n in ("tall", "low")}
+    assert all(np.abs(result.run.buildings[n].displacement[..., 1:]).max() < 1e-12 for n in u)
+    assert len(result.pairs) == 5 and all(p.kind == "slab-storey" and not p.simulated for p in result.pairs)
+    for k, p in enumerate(result.pairs):
+        s = 3 * p.xi**2 - 2 * p.xi**3
+        struck = u[p.body_b]
+        below = struck[:, p.storey_b - 2] if p.storey_b > 1 else 0.0
+        storey = (1 - s) * below + s * struck[:, p.storey_b - 1]
+        towards = p.direction[0]  # +1: the struck building stands on the slab's +x side
+        np.testing.assert_allclose(result.approach[:, k], towards * (u[p.body_a][:, p.floor_a - 1] - storey),
+                                   rtol=0, atol=1e-12)  # fmt: skip
 
 
 def test_refinement_between_samples_converges_at_least_at_sixth_order(monkeypatch: pytest.MonkeyPatch) -> None:

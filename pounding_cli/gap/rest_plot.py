@@ -1,8 +1,9 @@
 """`pound validate --plot FILE`: the geometry at rest, in plan and in elevation.
 
 Left, the plan: every building's outlines at rest (each slab, thin; the buildings' names at
-their footprint's centroid), obstacles hatched, and every two neighbouring buildings' gap
-dimensioned between the closest points of their footprints (gap.rest.clearance), in m.
+their footprint's centroid), obstacles hatched, and the gap of every two neighbouring
+buildings (footprints within 1 m: assembly/levels.neighbours) dimensioned between the closest
+points of their footprints (gap.rest.shapes_clearance), in m.
 
 Right, the elevation: the buildings side by side as seen across the axis (global X or Y)
 along which they spread the most, each drawn over its plan extent along that axis from its
