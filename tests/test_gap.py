@@ -204,3 +204,17 @@ def test_pound_gap_writes_json_hdf5_and_plot(tmp_path: Path) -> None:
     assert info["governing"] == int(np.argmin(margins)) and png.stat().st_size > 10_000
     again = CliRunner().invoke(app, ["gap", str(model), "-o", str(h5)])
     assert again.exit_code == 2 and "exists" in again.output
+
+
+def test_contact_off_in_the_model_measures_the_same_candidates(tmp_path: Path) -> None:
+    """A model with contact off is measured over the candidates contact would check (the same
+    required separations, bit for bit); a lone building has none, and pound gap says so."""
+    on = required_gaps(load_doc(_paper(0.05, torsion=True, duration=4.0)))
+    doc = _paper(0.05, torsion=True, duration=4.0)
+    doc["contact"]["enabled"] = False
+    off = required_gaps(load_doc(doc))
+    assert [p.required for p in off.pairs] == [p.required for p in on.pairs] and len(on.pairs) == 3
+    lone = _paper(0.05, torsion=True, duration=4.0)
+    del lone["buildings"][1]
+    alone = required_gaps(load_doc(lone))
+    assert alone.pairs == [] and alone.governing is None and alone.approach.shape == (alone.time.size, 0)
