@@ -7,6 +7,7 @@ The Python API (the CLI is a thin layer over it)::
     info = pound.describe(model)                 # periods, damping, Δt, record
     result = pound.run_model(model, output="out.h5")
     again = pound.read_hdf5("out.h5")
+    gaps = pound.required_gaps(model)           # the separation each contact candidate needs
 
 Names are imported on first use, so `pound --version` and input errors answer without
 loading numba, scipy and h5py.
@@ -24,6 +25,7 @@ _EXPORTS = {
     "export_csv": "export",
     "prepare": "api",
     "run_model": "api",
+    "required_gaps": "gap.required",
     "AnalysisFailed": "errors",
     "InputError": "errors",
     "PoundError": "errors",
@@ -36,7 +38,7 @@ _EXPORTS = {
     "write_hdf5": "results",
     "run_sweep": "sweep",
 }
-_SUBMODULES = {"api", "assembly", "cli", "errors", "export", "model", "plausibility", "records", "results", "schema",
+_SUBMODULES = {"api", "assembly", "cli", "errors", "export", "gap", "model", "plausibility", "records", "results", "schema",
                "solver", "sweep"}
 
 __all__ = ["__version__", *_EXPORTS]
@@ -45,6 +47,7 @@ if TYPE_CHECKING:
     from .api import describe, prepare, run_model
     from .errors import AnalysisFailed, InputError, PoundError, RecordReadError
     from .export import export_csv
+    from .gap.required import required_gaps
     from .model import LoadedModel, PoundModel, load_model
     from .results import RunResult, read_hdf5, write_hdf5
     from .sweep import run_sweep

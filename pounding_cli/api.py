@@ -31,11 +31,12 @@ from .assembly import (
     time_grid,
 )
 from .assembly.contact import observed_contact_omega
-from .assembly.levels import clear_distance, scene_unmet_neighbours
+from .assembly.levels import scene_unmet_neighbours
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .errors import AnalysisFailed, InputError
+from .gap.rest import clearance
 from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
 from .outputs import claim, output_file, refuse_inputs
 from .plausibility import Notice
@@ -222,7 +223,11 @@ def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
 
 def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
     """What a model resolves to: masses, periods, damping, record, time step (JSON-ready)."""
-    scene = prepare(model)
+    return describe_scene(prepare(model))
+
+
+def describe_scene(scene: Scene) -> dict[str, Any]:
+    """describe() of a prepared scene."""
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     m = loaded.model
     yielding = system.members.top.size > 0
@@ -238,6 +243,9 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                 "storeys": bld.n_floors,
                 "height_m": bld.height,
                 "base_elevation_m": bld.base_elevation,
+                "origin_m": list(spec.origin),
+                "rotation_deg": spec.rotation,
+                "place": spec.place.model_dump() if spec.place is not None else None,
                 "total_mass_kg": float(masses[:, 0].sum()),
                 "floor_masses_kg": masses[:, 0].tolist(),
                 "rotational_inertia_kgm2": masses[:, 2].tolist(),
@@ -279,8 +287,8 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "kind": p.kind,
                     **({"storey_b": p.storey, "xi": p.xi} if p.storey else {}),
                     "elevation_m": p.elevation,
-                    "clear_distance_m": clear_distance(contact.body_poly[contact.pair_a[i], : contact.body_nv[contact.pair_a[i]]],
-                                                       contact.body_poly[contact.pair_b[i], : contact.body_nv[contact.pair_b[i]]]),
+                    **clearance(contact.body_poly[contact.pair_a[i], : contact.body_nv[contact.pair_a[i]]],
+                                contact.body_poly[contact.pair_b[i], : contact.body_nv[contact.pair_b[i]]]).as_dict(),
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
                     **pair_damping_and_friction(contact, i),
@@ -297,8 +305,8 @@ def describe(model: str | Path | LoadedModel) -> dict[str, Any]:
                     "elevation_m": c.elevation,
                     "xi": c.xi,
                     "storey_height_m": c.height,
-                    "clear_distance_m": clear_distance(system.buildings[c.building].slabs[c.floor],
-                                                       system.buildings[c.struck].slabs[c.storey - 1]),
+                    **clearance(system.buildings[c.building].slabs[c.floor],
+                                system.buildings[c.struck].slabs[c.storey - 1]).as_dict(),
                     "simulated": True,
                     "struck_columns": [system.buildings[c.struck].column_lines[system.buildings[c.struck].columns[i].line].name
                                        for i in body.columns],

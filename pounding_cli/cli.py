@@ -20,7 +20,7 @@ from rich.table import Table
 
 from . import __version__
 from .atomic import write_text
-from .errors import PoundError
+from .errors import InputError, PoundError
 
 app = typer.Typer(no_args_is_help=True, pretty_exceptions_enable=False)
 
@@ -141,6 +141,11 @@ def validate(
     file: Annotated[Path, typer.Argument(metavar="FILE", help="Model, record definition or sweep file (.toml or .json).", show_default=False)],
     json_: JsonOpt = False,
     strict: StrictOpt = False,
+    plot: Annotated[
+        Path | None,
+        typer.Option("--plot", metavar="FILE", help="A model: also draw its geometry at rest, a plan with the gaps "
+                     "dimensioned and an elevation of the floor levels side by side (.png, .pdf, .svg)."),
+    ] = None,
 ) -> None:
     """Check a model, record definition or sweep file and print what it resolves to."""
     from .model import read_document
@@ -149,12 +154,17 @@ def validate(
     with reported():
         data = read_document(file)
         kind = document_kind(data)
+        if plot is not None and kind != "model":
+            raise InputError(f"--plot draws a model's geometry at rest, and this is a {kind} file"
+                             + ("; pound record --plot draws a record" if kind == "record" else ""), file=file)  # fmt: skip
         if kind == "record":
             _validate_record(file, data, json_)
         elif kind == "sweep":
             _validate_sweep(file, data, json_, strict)
         else:
-            _validate_model(file, data, json_, strict)
+            _validate_model(file, data, json_, strict, plot)
+    if plot is not None:
+        err.print(f"wrote {plot}", markup=False)
 
 
 def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
@@ -168,12 +178,20 @@ def _warn(warnings: list[dict[str, str]], strict: bool) -> None:
         err.print(f"{w['file']}: {w['field']}: {w['message']}", markup=False)
 
 
-def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool) -> None:
-    from .api import describe
+def _validate_model(file: Path, data: dict[str, Any], json_: bool, strict: bool, plot: Path | None) -> None:
+    from .api import describe_scene, prepare
     from .model import validate_model
 
-    info = describe(validate_model(data, file))
+    scene = prepare(validate_model(data, file))
+    info = describe_scene(scene)
     _warn(info["warnings"], strict)
+    if plot is not None:
+        from .gap.rest_plot import rest_figure
+        from .outputs import refuse_inputs
+        from .report.style import save_figure
+
+        refuse_inputs(plot, [(file, "the model being validated")], "another file for the plot (--plot)")
+        save_figure(rest_figure(scene.system, scene.loaded.model.all_obstacles(), info["contact"]), plot)
     if json_:
         print(json.dumps(info, indent=2))
     else:
@@ -204,6 +222,83 @@ def _validate_sweep(file: Path, data: dict[str, Any], json_: bool, strict: bool)
         print(json.dumps([outcome.rows[i] for i in outcome.selected], indent=2, ensure_ascii=False))
     else:
         print_cases(out, outcome)
+
+
+@app.command(
+    help="How far apart must the buildings be: the separation each contact candidate needs.\n\n"
+    "Runs the model once with contact off and, for each candidate pair and level, finds the smallest "
+    "separation along the direction of its clear distance at rest at which the moving outlines never "
+    "meet over the record (exact for convex outlines: a ray cast on their Minkowski difference at "
+    "every sample, crests refined between samples), the time of closest approach and the margin "
+    "(gap − required). Beside it, the code-style estimates ABS, SRSS and DDC from the peak "
+    "displacements of the facing edges, each with its ratio to the exact value. -o writes them "
+    "to HDF5 (group /gap), --plot draws the governing pair's approach history.",
+    epilog=_examples("pound gap inputs/paper_pounding.toml", "pound gap model.toml --json -o gap.h5 --plot approach.png"),
+)
+def gap(
+    model: ModelArg,
+    output: Annotated[Path | None, typer.Option("-o", "--output", metavar="FILE", help="Also write the results to this HDF5 file (group /gap).")] = None,
+    json_: JsonOpt = False,
+    plot: Annotated[Path | None, typer.Option("--plot", metavar="FILE", help="Also draw the governing pair's approach history (.png, .pdf, .svg).")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the inputs).")] = False,
+) -> None:
+    """The separation each contact candidate needs over the record."""
+    with reported():
+        from .api import check_output_path, prepare, run_inputs
+        from .gap.required import required_gaps
+        from .model import load_model
+        from .outputs import refuse_inputs
+
+        scene = prepare(load_model(model))
+        for path, what in ((output, "another output file (-o)"), (plot, "another file for the plot (--plot)")):
+            if path is not None:
+                refuse_inputs(path, run_inputs(scene), what)
+        if output is not None:
+            check_output_path(output, force)
+        result = required_gaps(scene)
+        if output is not None:
+            from .gap.hdf5 import write_gap
+
+            write_gap(result, output)
+        if plot is not None:
+            from .gap.plot import approach_figure
+            from .report.style import save_figure
+
+            save_figure(approach_figure(result), plot)
+    if json_:
+        print(json.dumps({"pairs": [p.as_dict() for p in result.pairs], "governing": result.governing,
+                          "sample_interval_s": result.sample}, indent=2, ensure_ascii=False))  # fmt: skip
+    else:
+        _print_gaps(result)
+    for path in (output, plot):
+        if path is not None:
+            err.print(f"wrote {path}", markup=False)
+
+
+def _print_gaps(result: Any) -> None:
+    """pound gap's table: per pair the gap at rest, the required separation, when, the margin
+    and the code-style estimates with their ratios to it (mm)."""
+    from .gap.plot import pair_label
+
+    if not result.pairs:
+        out.print("no contact candidates: nothing can touch", markup=False)
+        return
+    table = Table(title="required separation in mm (contact off; exact for convex outlines)", title_justify="left")
+    for col in ("pair", "z (m)", "gap", "required", "t* (s)", "margin", "ABS", "SRSS", "DDC", "ρ"):
+        table.add_column(col, justify="left" if col == "pair" else "right")
+    for p in result.pairs:
+        ratio = (lambda v: f"{1e3 * v:.4g} ×{v / p.required:.2f}") if p.required > 0 else (lambda v: f"{1e3 * v:.4g}")
+        table.add_row(pair_label(p) + ("" if p.simulated else " *"), f"{p.elevation:g}", f"{1e3 * p.clear_distance:.4g}",
+                      f"{1e3 * p.required:.5g}", f"{p.time:.4f}", f"{1e3 * p.margin:+.4g}", ratio(p.abs), ratio(p.srss),
+                      ratio(p.ddc), f"{p.rho:.3f}")  # fmt: skip
+    out.print(table, soft_wrap=False)
+    g = result.pairs[result.governing]
+    verdict = "they meet at the gap as built" if g.margin < 0 else "they never meet at the gap as built"
+    out.print(f"governing: {pair_label(g)}, required {1e3 * g.required:.5g} mm at t = {g.time:.4f} s, margin "
+              f"{1e3 * g.margin:+.4g} mm: {verdict}", markup=False)  # fmt: skip
+    out.print("  required: the smallest separation along the direction of the gap at rest at which the pair never meets; "
+              "ABS, SRSS, DDC from the facing edges' peak displacements (× the exact value); ρ: CQC correlation of the "
+              "two fundamental modes", markup=False)  # fmt: skip
 
 
 @app.command(
@@ -567,8 +662,6 @@ def report(
         _refuse_reading_what_is_written(paths, [html, animate])
         if sweep_folder is not None:
             if len(paths) > 1:
-                from .errors import InputError
-
                 raise InputError("give one sweep folder, or result files: not both, and one folder at a time",
                                  field="PATHS")  # fmt: skip
             docs, written, blocks = _sweep_report(sweep_folder, column, plots, format, html, x, y, case, study)
@@ -837,6 +930,15 @@ def _print_summary(s: dict[str, Any]) -> None:
             )
 
 
+def _placement(b: dict[str, Any]) -> str:
+    """'placed 0.05 m beside left on its +x side (align min): origin (8.05, 0) m, rotation 0°'."""
+    p = b["place"]
+    extra = "".join([f", offset {p['offset']:g} m" if p["offset"] else "",
+                     f", turned {p['rotation']:g}°" if p["rotation"] else ""])  # fmt: skip
+    return (f"placed {p['gap']:g} m beside {p['beside']} on its {p['side']} side (align {p['align']}{extra}): "
+            f"origin ({b['origin_m'][0]:.10g}, {b['origin_m'][1]:.10g}) m, rotation {b['rotation_deg']:.10g}°")
+
+
 def _floor_groups(b: dict[str, Any]) -> list[str]:
     """'floors 1-4: m = 64 t, J = 6.827e+05 kg·m²', one line per run of alike floors."""
     rows = list(zip(b["floor_masses_kg"], b["rotational_inertia_kgm2"]))
@@ -854,23 +956,29 @@ CANDIDATE_ROWS = 20
 
 
 def _print_candidates(c: dict[str, Any]) -> None:
-    """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and clear
-    distance at rest (neighbours that cannot meet are a plausibility warning,
-    plausibility.unmet_neighbours)."""
+    """Every contact candidate (up to CANDIDATE_ROWS) with its kind, elevation, ξ and the
+    geometry at rest: clear distance, its direction and the closest points (gap.rest)
+    (neighbours that cannot meet are a plausibility warning, plausibility.unmet_neighbours)."""
+    from .gap.rest import compass
+
     rows = [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} floor {p['floor_b']}" if p["floor_b"] else p["body_b"],
-             p["kind"], p["elevation_m"], "—", p["clear_distance_m"]) for p in c["pairs"] if "storey_b" not in p]  # fmt: skip
+             p["kind"], p["elevation_m"], "—", p) for p in c["pairs"] if "storey_b" not in p]  # fmt: skip
     rows += [(f"{p['body_a']} floor {p['floor_a']}", f"{p['body_b']} storey {p['storey_b']}", p["kind"],
-              p["elevation_m"], f"{p['xi']:.3f}", p["clear_distance_m"]) for p in c["storey_crossings"]]  # fmt: skip
+              p["elevation_m"], f"{p['xi']:.3f}", p) for p in c["storey_crossings"]]  # fmt: skip
     if rows:
         table = Table(title="contact candidates at rest", title_justify="left")
         for col, justify in (("slab", "left"), ("meets", "left"), ("kind", "left"), ("z (m)", "right"),
-                             ("ξ", "right"), ("clear (m)", "right")):  # fmt: skip
+                             ("ξ", "right"), ("clear (m)", "right"), ("towards", "right"),
+                             ("closest points (m)", "left")):  # fmt: skip
             table.add_column(col, justify=justify)  # type: ignore[arg-type]
-        for a, b, kind, z, xi, d in rows[:CANDIDATE_ROWS]:
-            table.add_row(a, b, kind.replace("-", "–"), f"{z:g}", xi, f"{d:.4g}")
+        for a, b, kind, z, xi, p in rows[:CANDIDATE_ROWS]:
+            (xa, ya), (xb, yb) = p["closest_points_m"]
+            table.add_row(a, b, kind.replace("-", "–"), f"{z:g}", xi, f"{p['clear_distance_m']:.4g}",
+                          compass(p["direction_x_y"]), f"({xa:.4g}, {ya:.4g}) → ({xb:.4g}, {yb:.4g})")  # fmt: skip
         out.print(table, soft_wrap=False)
         out.print("  z: elevation; ξ: where in the storey struck (0 at its floor below, 1 at the floor above); "
-                  "clear: distance in plan", markup=False)  # fmt: skip
+                  "clear: distance in plan, towards: its direction from the slab to what it meets (global axes), "
+                  "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
 
@@ -886,6 +994,8 @@ def _print_description(info: dict[str, Any]) -> None:
                      if b["isolators"] else "")
                   + (f", in a moat wall {b['moat']['gap_m']:g} m away ({', '.join(b['moat']['walls'])})"
                      if b["moat"] else ""))  # fmt: skip
+        if b["place"] is not None:
+            out.print(f"  {_placement(b)}", markup=False)
         for line in _floor_groups(b):
             out.print(f"  {line}", markup=False)
         table = Table()

@@ -43,14 +43,18 @@ SUBSTITUTES: list[Any] = ["no", "yes", "true", "false", "off", "on", "0", "1", "
 
 def full_model() -> dict[str, Any]:
     """A valid model holding every object of model.schema.json: the isolated building and its
-    moat, inelastic columns, explicit columns beside a grid, an obstacle, an inline record
-    with every processing step."""
+    moat, inelastic columns, explicit columns beside a grid, a building placed beside another,
+    an obstacle, an inline record with every processing step."""
     doc = read_document(INPUTS / "isolated_moat.toml")
     doc["hysteresis"] = {"rc": {"yield_deflection": [0.01, 0.01], "post_yield_ratio": 0.05}}
     neighbour = doc["buildings"][1]
     neighbour["floors"][0]["columns"] = [{"name": "X1", "x": 6.0, "y": 2.0, "section": [0.3, 0.3],
                                           "material": "concrete", "hysteresis": "rc", "angle": 10.0}]  # fmt: skip
     neighbour["floors"][0]["rotational_inertia"] = 1e6
+    placed = {key: copy.deepcopy(value) for key, value in neighbour.items() if key not in ("origin", "rotation")}
+    placed.update(name="placed", place={"beside": "neighbour", "side": "+x", "gap": 0.1, "align": "centre",
+                                        "offset": 0.0, "rotation": 0.0})  # fmt: skip
+    doc["buildings"].append(placed)
     doc["buildings"][0]["isolation"]["isolators"] = [{"name": "J1", "x": 2.0, "y": 2.0, "bearing": "lrb"}]
     doc["obstacles"] = [{"name": "wall", "polygon": [[0.0, -2.0], [8.0, -2.0], [8.0, -1.0], [0.0, -1.0]],
                          "elevation": [0.0, 20.0], "material": "concrete", "k_normal": 1e9}]  # fmt: skip

@@ -13,6 +13,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 from ..limits import MAX_COLUMNS, MAX_REPEAT, check_columns, check_repeat, max_storeys
 from .base import Count, Name, Positive, Real, Strict
 from .inelastic import Isolation
+from .placement import Placement
 from .slab import SlabPolygon
 
 Width = Annotated[Real, Field(ge=0.001, le=50.0)]
@@ -280,6 +281,10 @@ class Building(Strict):
     rotation: Real = 0.0
     """Rotation of the building's local x axis from the global X axis, degrees,
     counter-clockwise."""
+
+    place: Placement | None = None
+    """Place the building beside a neighbour instead of at `origin`: a gap (m) clear of it on
+    one of its sides, aligned as stated (give `place` or `origin`/`rotation`, not both)."""
 
     base_elevation: Annotated[Real, Field(ge=-1e4, le=1e4)] = 0.0
     """Elevation of the building's ground, m (positive up): the foot of its lowest storey

@@ -209,7 +209,9 @@ def validate_model(data: dict[str, Any], source: str | Path) -> LoadedModel:
     problems = [f"{source}: {field}: {message}" for field, message in model.cross_reference_problems()]
     if problems:
         raise InputError("\n".join(problems))
-    return LoadedModel(model=model, source=source)
+    from ..gap.placement import resolve_placements
+
+    return LoadedModel(model=resolve_placements(model, source), source=source)
 
 
 # --- messages -------------------------------------------------------------------------

@@ -13,6 +13,7 @@ from .contact import Contact, Obstacle
 from .excitation import Excitation
 from .inelastic import Bearing, Hysteresis, moat_wall_polygons
 from .material import Material
+from .placement import placement_problems
 
 
 class PoundModel(Strict):
@@ -66,7 +67,7 @@ class PoundModel(Strict):
         for o, obstacle in enumerate(self.obstacles):
             if obstacle.material not in self.materials:
                 out.append((f"obstacles[{o}].material", f"unknown material {obstacle.material!r}; defined: {defined}"))
-        return out + self._yielding_problems(first)
+        return out + placement_problems(self.buildings) + self._yielding_problems(first)
 
     def _column_references(self, key: str) -> list[tuple[str, str | None]]:
         """(field path, value) of `key` ("material" or "hysteresis") on every column grid and
