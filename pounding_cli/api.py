@@ -41,6 +41,7 @@ from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
 from .outputs import claim, output_file, refuse_inputs
 from .plausibility import Notice
 from .model import Analysis, LoadedModel, load_model
+from .model.placement import stored_json
 from .results import RunResult, collect, write_hdf5
 from .solver import simulate
 from .solver.tunables import MAX_RERUNS, RERUN_MARGIN
@@ -214,7 +215,7 @@ def default_output(model: str | Path | LoadedModel) -> Path:
 def input_sha256(loaded: LoadedModel, ground: GroundMotion) -> str:
     """Hash of what determines the result: resolved model, record file bytes, pound version."""
     payload = {
-        "model": json.loads(loaded.model.model_dump_json()),
+        "model": json.loads(stored_json(loaded.model)),
         "records": ground.file_sha256,
         "pound_version": __version__,
     }
@@ -531,7 +532,7 @@ def execute(
     if response.failure_dof >= 0:
         response.status += "; " + where_it_failed(system, response.failure_dof)
     result = collect(
-        system, response, loaded.model.model_dump_json(), input_sha256(loaded, ground), diagnostics, scene.contact
+        system, response, stored_json(loaded.model), input_sha256(loaded, ground), diagnostics, scene.contact
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     result.warnings = [n.as_dict() for n in scene.notices]

@@ -217,3 +217,25 @@ def test_a_placed_model_runs_as_the_same_model_placed_by_origin() -> None:
     for p, q in zip(*(assemble(load_doc(model_doc(left, r))).buildings[1].slabs for r in (placed, by_origin))):
         np.testing.assert_allclose(p, q, rtol=0, atol=1e-12)
     assert prepare(load_doc(model_doc(left, placed))).contact.n_pairs == 2
+
+
+def test_a_placed_models_result_validates_again(tmp_path: Path) -> None:
+    """A result file keeps a placed building's `place` and leaves out the origin it fixes, so
+    that the stored model validates again, to the same outlines: `pound report`'s plan view
+    rebuilds the geometry from it (placing it by origin and place both was an input error)."""
+    import json
+
+    from pounding_cli.api import run_model
+    from pounding_cli.report import open_run
+    from pounding_cli.report.geometry import plan_geometry
+
+    placed = square_building("right", storeys=3)
+    placed.pop("origin"), placed.pop("rotation")
+    placed["place"] = {"beside": "left", "side": "+x", "gap": 0.05}
+    loaded = load_doc(model_doc(square_building("left", storeys=2), placed, duration=0.2))
+    run_model(loaded, output=tmp_path / "placed.h5")
+    run = open_run(tmp_path / "placed.h5")
+    stored = json.loads(run.result.model_json)["buildings"][1]
+    assert stored["place"]["gap"] == 0.05 and "origin" not in stored
+    geometry = plan_geometry(run)
+    np.testing.assert_allclose(geometry.slab("right", 1).outline, assemble(loaded).buildings[1].slabs[0], rtol=0, atol=1e-12)

@@ -96,3 +96,17 @@ def _cycles(buildings: list["Building"], names: dict[str, int]) -> list[tuple[st
                         + " → ".join(buildings[i].name for i in ring)
                         + "; place one building of it by origin"))  # fmt: skip
     return out
+
+
+def stored_json(model) -> str:  # type: ignore[no-untyped-def]
+    """The model as the result files keep it (JSON): a placed building keeps its `place`, and
+    its origin and rotation, which the placement fixes, are left out, so that the stored model
+    validates again (to the same placement) wherever a result is read."""
+    import json
+
+    data = json.loads(model.model_dump_json())
+    for building, stored in zip(model.buildings, data["buildings"]):
+        if building.place is not None:
+            stored.pop("origin", None)
+            stored.pop("rotation", None)
+    return json.dumps(data)
