@@ -104,9 +104,12 @@ def stored_json(model) -> str:  # type: ignore[no-untyped-def]
     validates again (to the same placement) wherever a result is read."""
     import json
 
-    data = json.loads(model.model_dump_json())
+    text = model.model_dump_json()
+    if all(b.place is None for b in model.buildings):
+        return text
+    data = json.loads(text)
     for building, stored in zip(model.buildings, data["buildings"]):
         if building.place is not None:
             stored.pop("origin", None)
             stored.pop("rotation", None)
-    return json.dumps(data)
+    return json.dumps(data, separators=(",", ":"), ensure_ascii=False)
