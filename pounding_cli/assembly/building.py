@@ -39,6 +39,10 @@ class ColumnInstance:
     storey: int  # 0 = ground storey
     arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global axes)
     arm_top: np.ndarray  # offset from the top floor's mass centre, m (global axes)
+    stiffness: tuple[float, float] = (0.0, 0.0)  # 12EI/h³ along its local x, y, N/m (initial, if it yields)
+    angle: float = 0.0  # rad, its local x axis from global X
+    height: float = 0.0  # m, the storey's height (fixed-fixed end moments M = V·h/2)
+    member: int = -1  # its index in the building's yielding members, −1 if it stays linear
 
 
 @dataclass(frozen=True)
@@ -195,7 +199,8 @@ def assemble_building(
             arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
-            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1]))
+            member = len(members) if col.hysteresis is not None else -1
+            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], (kx, ky), angle, floor.height, member))
             if col.hysteresis is not None:
                 law = laws[col.hysteresis]
                 fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])

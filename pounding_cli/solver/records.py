@@ -126,6 +126,31 @@ class Work(NamedTuple):
     """(n_storeys, 3) storey deflections (Ã_x, Ã_y, Δθ) at the state just peaked, m, rad"""
 
 
+class Gauges(NamedTuple):
+    """Storey shears and column forces as linear gauges of the storey deflections, less their
+    members' plastic part (force_peaks.py; assembly/force_gauges.py builds them), listed storey
+    by storey, and their running peaks."""
+
+    storey: np.ndarray
+    """(n_g,) the storey of each gauge"""
+    weight: np.ndarray
+    """(n_g, 3) on the storey deflection (Ã_x, Ã_y, Δθ), N/m, N/m, N/rad (N·m/m, N·m/rad)"""
+    first: np.ndarray
+    """(n_storeys + 1,) each storey's first gauge"""
+    member_start: np.ndarray
+    """(n_g + 1,) each gauge's first entry of member, member_weight"""
+    member: np.ndarray
+    """(n_e,) a yielding member (rows of plastic and kh)"""
+    member_weight: np.ndarray
+    """(n_e, 2) on the member's (k_h,x·p_x, k_h,y·p_y), subtracted (1, or m for a torque)"""
+    kh: np.ndarray
+    """(n_members, 2) the members' hysteretic stiffness, N/m (Yielding.law.kh)"""
+    plastic: np.ndarray
+    """(n_members, 4) the members' plastic deflections, m (Yielding.plastic: the same array)"""
+    peak: np.ndarray
+    """(n_g,) running max |q|, N (N·m)"""
+
+
 class Peaks(NamedTuple):
     """Running maxima over every step (and between exact states)."""
 
@@ -137,6 +162,8 @@ class Peaks(NamedTuple):
     """(n_dof,) |u|, m and rad"""
     acceleration: np.ndarray
     """(n_dof,) absolute |a|, m/s² and rad/s²"""
+    gauges: Gauges
+    """storey shears and column forces (force_peaks.py)"""
 
 
 class Output(NamedTuple):
@@ -154,6 +181,8 @@ class Output(NamedTuple):
     """(n_out, 7) J, columns cdm.ENERGY_NAMES"""
     contact: np.ndarray
     """(n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS"""
+    floor_contact: np.ndarray
+    """(n_out, n_dof) the contact forces on the floors, N and N·m (Contact.force)"""
 
 
 class Bodies(NamedTuple):
