@@ -7,9 +7,15 @@ shear-type storey is a linear combination of those three numbers, plus, where me
 a part carried by their plastic deflections p (hysteresis.py: a member's force is k·δ − k_h·p).
 A gauge is such a combination:
 
-    value = w · (Ã_x, Ã_y, Δθ) − Σ over its members of c · (k_h,x·p_x, k_h,y·p_y)
+    value = w · (Ã_x, Ã_y, Δθ) − k_h,a·p_a of its member along axis a (a column's)
+                               − c · P_s (a storey's)
 
-with w in N/m, N/m, N/rad (N·m/m, N·m/rad for a torque) and c dimensionless (m for a torque).
+with w in N/m, N/m, N/rad (N·m/m, N·m/rad for a torque), P_s the resultant of the plastic
+forces k_h ⊙ p of storey s's members on the floor above (F_X, F_Y and the torque about the
+plan origin) and c dimensionless (m for a torque). The time loop gets P_s of every storey at
+once from the plastic correction g on the floors (hysteresis.py): summed over the floors from
+storey s's up, the storeys above cancel (a member pushes its top and bottom floors equally and
+oppositely at one point) and storey s's own is left (force_peaks.plastic_resultants).
 The time loop follows the gauges' running peaks exactly, between steps too (peaks.py), and the
 results compute their histories from the stored deflections and members' forces with the same
 weights (results/forces.py).
@@ -46,9 +52,11 @@ class ForceGauges:
     storey: np.ndarray  # (n_g,) int64 global storey of each gauge
     weight: np.ndarray  # (n_g, 3) on the storey deflection (Ã_x, Ã_y, Δθ)
     first: np.ndarray  # (n_storeys + 1,) int64 the storeys' first gauges
-    member_start: np.ndarray  # (n_g + 1,) int64 each gauge's first entry of member, member_weight
-    member: np.ndarray  # (n_e,) int64 global yielding member
-    member_weight: np.ndarray  # (n_e, 2) on the member's (k_h,x·p_x, k_h,y·p_y), subtracted
+    member: np.ndarray  # (n_g,) int64 a column gauge's yielding member, −1: none
+    member_axis: np.ndarray  # (n_g,) int64 the local axis of its plastic force k_h·p subtracted
+    plastic_weight: np.ndarray  # (n_g, 3) a storey gauge's on its plastic resultant P_s, subtracted
+    storey_above: np.ndarray  # (n_storeys,) int64 the storey on top of each (same building), −1: none
+    member_resultant: np.ndarray  # (n_members, 3, 2) a member's (k_h,x·p_x, k_h,y·p_y) to its share of P_s
     storey_gauge: np.ndarray  # (n_storeys,) int64 gauge of each storey's first component
     column_gauge: np.ndarray  # (n_columns,) int64 gauge of each column's local-x shear, −1: none
     column_weight: np.ndarray  # (n_columns, 2, 3) every column's local shears on its storey's deflection
@@ -95,6 +103,12 @@ def member_force_columns(system: System, m: int) -> np.ndarray:
     return np.array([[c, -sn], [sn, c], [ax * sn - ay * c, ax * c + ay * sn]])
 
 
+def about_plan_origin(centre: np.ndarray) -> np.ndarray:
+    """(3, 3): a force (F_X, F_Y, torque about the point `centre`) to (F_X, F_Y, torque about
+    the plan origin)."""
+    return np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-centre[1], centre[0], 1.0]])
+
+
 def column_weights(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(weights (n_columns, 2, 3), stiffness (n_columns, 2), member, height, aligned): every
     column instance's local shears f_i = k_i·e_i·(Ã + Δθ·(ξ, η)) on its storey's deflection
@@ -128,43 +142,45 @@ def force_gauges(system: System, origin: np.ndarray | None = None) -> ForceGauge
     are relative to `origin` (global, m; the time loop's local origin, assembly/origin.py)."""
     origin = np.zeros(2) if origin is None else np.asarray(origin, dtype=float)
     col_w, col_k, col_member, col_h, aligned = column_weights(system)
-    members = system.members
-    member_storey = members.top  # storey g joins floor g − 1 (or the ground) to floor g
-    storey, weight, start, entry, entry_w = [], [], [0], [], []
-    first = [0]
+    storey, weight, member, member_axis, plastic_weight, first = [], [], [], [], [], [0]
     storey_gauge = np.zeros(system.storey_top.size, dtype=np.int64)
     column_gauge = np.full(system.column_storey.size, -1, dtype=np.int64)
-
-    def add(s: int, w: np.ndarray, entries: list[tuple[int, np.ndarray]]) -> None:
-        storey.append(s)
-        weight.append(w)
-        for m, cw in entries:
-            entry.append(m)
-            entry_w.append(cw)
-        start.append(len(entry))
-
     for s in range(system.storey_top.size):
         rows, to_components = storey_force_rows(system, s, origin)
-        in_storey = np.flatnonzero(member_storey == s)
+        from_origin = np.linalg.inv(about_plan_origin(system.floor_centre[system.storey_top[s]]))
         storey_gauge[s] = len(storey)
-        for j in range(N_STOREY):
-            add(s, rows[j], [(int(m), to_components[j] @ member_force_columns(system, int(m))) for m in in_storey])
+        storey += [s] * N_STOREY
+        weight += list(rows)
+        member += [-1] * N_STOREY
+        member_axis += [0] * N_STOREY
+        plastic_weight += list(to_components @ from_origin)
         for k in np.flatnonzero(system.column_storey == s):
             if aligned[k] and col_member[k] < 0:
                 continue
             column_gauge[k] = len(storey)
-            for axis in range(2):
-                unit = np.eye(2)[axis]
-                add(s, col_w[k, axis], [(int(col_member[k]), unit)] if col_member[k] >= 0 else [])
+            storey += [s, s]
+            weight += list(col_w[k])
+            member += [int(col_member[k])] * 2
+            member_axis += [0, 1]
+            plastic_weight += [np.zeros(3), np.zeros(3)]
         first.append(len(storey))
     n_g = len(storey)
+    bottom, top = system.storey_bottom, system.storey_top
+    above = np.full(top.size, -1, dtype=np.int64)
+    for s in range(top.size - 1):
+        if bottom[s + 1] == top[s]:
+            above[s] = s + 1
+    resultant = [about_plan_origin(system.floor_centre[system.members.top[m]]) @ member_force_columns(system, m)
+                 for m in range(system.members.n)]  # fmt: skip
     return ForceGauges(
         storey=np.asarray(storey, dtype=np.int64),
         weight=np.asarray(weight, dtype=float).reshape(n_g, 3),
         first=np.asarray(first, dtype=np.int64),
-        member_start=np.asarray(start, dtype=np.int64),
-        member=np.asarray(entry, dtype=np.int64),
-        member_weight=np.asarray(entry_w, dtype=float).reshape(-1, 2),
+        member=np.asarray(member, dtype=np.int64),
+        member_axis=np.asarray(member_axis, dtype=np.int64),
+        plastic_weight=np.asarray(plastic_weight, dtype=float).reshape(n_g, 3),
+        storey_above=above,
+        member_resultant=np.asarray(resultant, dtype=float).reshape(-1, 3, 2),
         storey_gauge=storey_gauge,
         column_gauge=column_gauge,
         column_weight=col_w,

@@ -38,29 +38,30 @@ def storey_deflections(gauges: ForceGauges, displacement: np.ndarray, bottom: np
     return np.einsum("sij,tsj->tsi", gauges.deflection_map, q)
 
 
-def plastic_forces(member_history: np.ndarray | None, k0: np.ndarray) -> np.ndarray:
+def plastic_forces(member_history: np.ndarray | None, k0: np.ndarray, nt: int) -> np.ndarray:
     """(nt, n_members, 2) k_h ⊙ p = k·δ − f of every yielding member, N."""
     if member_history is None:
-        return np.zeros((0, 0, 2))
+        return np.zeros((nt, 0, 2))
     return k0 * member_history[:, :, :2] - member_history[:, :, 2:]
 
 
-def gauge_history(gauges: ForceGauges, g: int, weight: np.ndarray, deflection: np.ndarray,
-                  plastic: np.ndarray) -> np.ndarray:  # fmt: skip
-    """(nt,) a force of gauge g's storey and members with linear weights `weight` (3,)."""
-    value = deflection[:, gauges.storey[g]] @ weight
-    for e in range(gauges.member_start[g], gauges.member_start[g + 1]):
-        value -= plastic[:, gauges.member[e]] @ gauges.member_weight[e]
-    return value
-
-
-def storey_shears(gauges: ForceGauges, deflection: np.ndarray, plastic: np.ndarray) -> np.ndarray:
-    """(nt, n_storeys, 6) every storey's STOREY_COMPONENTS."""
-    out = np.empty((deflection.shape[0], gauges.storey_gauge.size, N_STOREY))
-    for s, g0 in enumerate(gauges.storey_gauge):
-        for j in range(N_STOREY):
-            out[:, s, j] = gauge_history(gauges, g0 + j, gauges.weight[g0 + j], deflection, plastic)
+def plastic_resultants(gauges: ForceGauges, plastic: np.ndarray, member_storey: np.ndarray,
+                       n_storeys: int) -> np.ndarray:  # fmt: skip
+    """(nt, n_storeys, 3) P_s: each storey's members' plastic forces (nt, n_members, 2) on the
+    floor above as F_X, F_Y and the torque about the plan origin (force_peaks.plastic_resultants
+    gets the same from the floors' plastic correction)."""
+    out = np.zeros((plastic.shape[0], n_storeys, 3))
+    if plastic.shape[1]:
+        np.add.at(out, (slice(None), member_storey), np.einsum("mij,tmj->tmi", gauges.member_resultant, plastic))
     return out
+
+
+def storey_shears(gauges: ForceGauges, deflection: np.ndarray, resultant: np.ndarray) -> np.ndarray:
+    """(nt, n_storeys, 6) every storey's STOREY_COMPONENTS from the storeys' deflections and
+    plastic resultants (nt, n_storeys, 3 each)."""
+    rows = gauges.storey_gauge[:, None] + np.arange(N_STOREY)  # (n_storeys, 6) gauges
+    return (np.einsum("tsj,sij->tsi", deflection, gauges.weight[rows])
+            - np.einsum("tsj,sij->tsi", resultant, gauges.plastic_weight[rows]))  # fmt: skip
 
 
 def column_shears(gauges: ForceGauges, deflection: np.ndarray, plastic: np.ndarray,
@@ -72,12 +73,15 @@ def column_shears(gauges: ForceGauges, deflection: np.ndarray, plastic: np.ndarr
     return out
 
 
-def column_peaks(gauges: ForceGauges, peak_gauge: np.ndarray, peak_column: np.ndarray) -> np.ndarray:
+def column_peaks(gauges: ForceGauges, response) -> np.ndarray:  # type: ignore[no-untyped-def]
     """(n_columns, 2) every column instance's peak |shear| along its local x, y, N: its gauges'
-    where it has them, else k × its deflection's peak (its local axes are the building's)."""
-    peaks = gauges.column_stiffness * peak_column
+    where it has them (and a yielding column's member's, |f| at every state), else k × its
+    deflection's peak (its local axes are the building's)."""
+    peaks = gauges.column_stiffness * response.peak_column
     for k in np.flatnonzero(gauges.column_gauge >= 0):
-        peaks[k] = peak_gauge[gauges.column_gauge[k] : gauges.column_gauge[k] + 2]
+        peaks[k] = response.peak_gauge[gauges.column_gauge[k] : gauges.column_gauge[k] + 2]
+        if gauges.column_member[k] >= 0:
+            peaks[k] = np.maximum(peaks[k], response.peak_member[gauges.column_member[k], 3:5])
     return peaks
 
 
@@ -97,7 +101,7 @@ class SystemForces:
 
     gauges: ForceGauges
     deflection: np.ndarray  # (nt, n_storeys, 3)
-    plastic: np.ndarray  # (nt, n_members, 2)
+    plastic: np.ndarray  # (nt, n_members, 2) k_h ⊙ p
     storey_shear: np.ndarray  # (nt, n_storeys, 6)
     histories: bool  # column force histories asked for
 
@@ -105,8 +109,9 @@ class SystemForces:
 def system_forces(gauges: ForceGauges, system, response, histories: bool) -> SystemForces:  # type: ignore[no-untyped-def]
     """The storeys' deflections and members' plastic forces at the output samples."""
     deflection = storey_deflections(gauges, response.displacement, system.storey_bottom, system.storey_top)
-    plastic = plastic_forces(response.member_history, system.members.k0)
-    return SystemForces(gauges, deflection, plastic, storey_shears(gauges, deflection, plastic), histories)
+    plastic = plastic_forces(response.member_history, system.members.k0, deflection.shape[0])
+    resultant = plastic_resultants(gauges, plastic, system.members.top, system.storey_top.size)
+    return SystemForces(gauges, deflection, plastic, storey_shears(gauges, deflection, resultant), histories)
 
 
 def force_result(forces: SystemForces, system, b: int, response, column_offset: int) -> ForceResult:  # type: ignore[no-untyped-def]
@@ -121,7 +126,7 @@ def force_result(forces: SystemForces, system, b: int, response, column_offset: 
     peak_storey = response.peak_gauge[g0[:, None] + np.arange(N_STOREY)]
     base = int(np.flatnonzero(system.storey_bottom[storeys] < 0)[0])
     heights = gauges.column_height[cols, None]
-    peak_col = by_line(bld, column_peaks(gauges, response.peak_gauge, response.peak_column)[cols])
+    peak_col = by_line(bld, column_peaks(gauges, response)[cols])
     nt = response.time.size
     result = ForceResult(
         storey_shear=shear,

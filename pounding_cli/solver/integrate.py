@@ -380,7 +380,7 @@ def simulate(
     work = Work(*(np.zeros(n_dof + 3) for _ in range(6)), np.zeros((n_storeys, 3)))
     yielding = yielding_state(structure, n_out)
     n_members = yielding.plastic.shape[0]
-    gauge_rec = gauge_state(gauges, yielding, n_storeys)
+    gauge_rec = gauge_state(gauges, structure_rec, yielding)
     peaks = Peaks(np.zeros((structure.column_storey.size, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof),
                   gauge_rec)  # fmt: skip
     c = contact if contact is not None else NoContact()
@@ -545,20 +545,25 @@ class GaugeArrays(Protocol):
     storey: np.ndarray
     weight: np.ndarray
     first: np.ndarray
-    member_start: np.ndarray
     member: np.ndarray
-    member_weight: np.ndarray
+    member_axis: np.ndarray
+    plastic_weight: np.ndarray
+    storey_above: np.ndarray
 
 
-def gauge_state(gauges: GaugeArrays | None, yielding: Yielding, n_storeys: int) -> Gauges:
-    """The force gauges' record (records.Gauges) on the yielding members' own arrays, their
-    peaks at zero; none where gauges is None."""
+def gauge_state(gauges: GaugeArrays | None, structure: Structure, yielding: Yielding) -> Gauges:
+    """The force gauges' record (records.Gauges) on the structure's and the yielding members'
+    own arrays, their peaks at zero; none where gauges is None."""
+    n_storeys = structure.storey_top.size
     if gauges is None:
-        return Gauges(np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros(n_storeys + 1, dtype=np.int64),
-                      np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((0, 2)), yielding.law.kh,
-                      yielding.plastic, np.zeros(0))  # fmt: skip
-    return Gauges(gauges.storey, gauges.weight, gauges.first, gauges.member_start, gauges.member,
-                  gauges.member_weight, yielding.law.kh, yielding.plastic, np.zeros(gauges.storey.size))  # fmt: skip
+        ints = np.zeros(0, dtype=np.int64)
+        return Gauges(ints, np.zeros((0, 3)), np.zeros(n_storeys + 1, dtype=np.int64), ints, ints, np.zeros((0, 3)),
+                      np.full(n_storeys, -1, dtype=np.int64), structure.storey_top, structure.centre,
+                      yielding.law.kh, yielding.plastic, yielding.g, yielding.peak, np.zeros((n_storeys, 3)),
+                      np.zeros(0))  # fmt: skip
+    return Gauges(gauges.storey, gauges.weight, gauges.first, gauges.member, gauges.member_axis, gauges.plastic_weight,
+                  gauges.storey_above, structure.storey_top, structure.centre, yielding.law.kh, yielding.plastic,
+                  yielding.g, yielding.peak, np.zeros((n_storeys, 3)), np.zeros(gauges.storey.size))  # fmt: skip
 
 
 def exact_branch(

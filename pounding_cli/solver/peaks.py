@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from .force_peaks import gauge_linear, gauge_offset, update_gauge_peaks
+from .force_peaks import gauge_floor, gauge_linear, gauge_offset, update_gauge_peaks
 from .jit import INTERNAL, kernel, phase
 from .tunables import CREST_NEWTON_STEPS, SERIES_MAX_ORDER, SERIES_MIN_ORDER, SERIES_REMAINDER
 
@@ -332,7 +332,7 @@ def _gauge_crests(s, h, between, storey_work, rx, ry, rt, bx, by, bt, floor_rati
         c0 = gauge_linear(g, between[s, BT_BEND], between[s, BT_BEND + 1], between[s, BT_BEND + 2], gauges)
         q1 = gauge_linear(g, storey_work[s, 0], storey_work[s, 1], storey_work[s, 2], gauges) + off
         n = quintic_crests(q0, m0, c0, q1, gauge_linear(g, rx, ry, rt, gauges), gauge_linear(g, bx, by, bt, gauges),
-                           h, floor_ratio * gauges.peak[g], CREST_GAUGE, g, crests, n)  # fmt: skip
+                           h, floor_ratio * gauge_floor(g, gauges), CREST_GAUGE, g, crests, n)  # fmt: skip
     return n
 
 

@@ -137,16 +137,28 @@ class Gauges(NamedTuple):
     """(n_g, 3) on the storey deflection (Ã_x, Ã_y, Δθ), N/m, N/m, N/rad (N·m/m, N·m/rad)"""
     first: np.ndarray
     """(n_storeys + 1,) each storey's first gauge"""
-    member_start: np.ndarray
-    """(n_g + 1,) each gauge's first entry of member, member_weight"""
     member: np.ndarray
-    """(n_e,) a yielding member (rows of plastic and kh)"""
-    member_weight: np.ndarray
-    """(n_e, 2) on the member's (k_h,x·p_x, k_h,y·p_y), subtracted (1, or m for a torque)"""
+    """(n_g,) a column gauge's yielding member (rows of plastic and kh), −1: none"""
+    member_axis: np.ndarray
+    """(n_g,) the member's local axis whose k_h·p is subtracted"""
+    plastic_weight: np.ndarray
+    """(n_g, 3) a storey gauge's weights on its storey's plastic resultant, subtracted (1, or m)"""
+    storey_above: np.ndarray
+    """(n_storeys,) the storey on top of each in its building, −1 for the top one"""
+    top: np.ndarray
+    """(n_storeys,) the floor above each storey (Structure.storey_top)"""
+    centre: np.ndarray
+    """(n_floors + 1, 2) the floors' mass centres, m (Structure.centre)"""
     kh: np.ndarray
     """(n_members, 2) the members' hysteretic stiffness, N/m (Yielding.law.kh)"""
     plastic: np.ndarray
     """(n_members, 4) the members' plastic deflections, m (Yielding.plastic: the same array)"""
+    g: np.ndarray
+    """(n_dof + 3) the members' plastic correction on the floors, N, N·m (Yielding.g: the same array)"""
+    member_peak: np.ndarray
+    """(n_members, 6) the members' running peaks (Yielding.peak: the same array; |f_x|, |f_y| in 3, 4)"""
+    resultant: np.ndarray
+    """(n_storeys, 3) work: each storey's plastic resultant P_s at the state peaked, N, N, N·m"""
     peak: np.ndarray
     """(n_g,) running max |q|, N (N·m)"""
 
