@@ -13,8 +13,8 @@ from typing import TYPE_CHECKING, Sequence
 import numpy as np
 
 from .load import Run
-from .profiles import MARKERS
-from .style import colour, figure, grid
+from .profiles import MARKERS, storey_panels
+from .style import colour, figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -25,8 +25,6 @@ PANELS = (("V_x (kN)", 0), ("V_y (kN)", 1), ("T (kN·m)", 2))
 
 def shear_figure(runs: Sequence[Run]) -> Figure:
     """The three storey-shear profiles of every run in `runs` on one figure."""
-    from matplotlib.ticker import MaxNLocator
-
     fig = figure(9.0, 4.2)
     axes = fig.subplots(1, 3, sharey=True)
     top, k = 1, 0
@@ -42,14 +40,7 @@ def shear_figure(runs: Sequence[Run]) -> Figure:
                 ax.plot(peaks[:, c], storeys, marker=MARKERS[k % len(MARKERS)], ms=4, lw=1.0, color=colour(k),
                         label=label)  # fmt: skip
             k += 1
-    for ax, (label, _) in zip(axes, PANELS):
-        ax.set_xlabel(f"peak {label}")
-        ax.set_xlim(left=0)
-        ax.xaxis.set_major_locator(MaxNLocator(5))
-    axes[0].set_ylabel("storey")
-    axes[0].set_yticks(np.arange(1, top + 1))
-    axes[0].set_ylim(0.5, top + 0.5)
-    grid(axes)
+    storey_panels(axes, [label for label, _ in PANELS], top)
     handles, labels = axes[0].get_legend_handles_labels()
     if labels:
         fig.legend(handles, labels, loc="outside lower center", ncols=min(3, len(labels)), fontsize="small")

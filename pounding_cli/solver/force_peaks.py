@@ -15,8 +15,9 @@ between exact states, and the results take the larger (results/forces.column_pea
 (the exact branch runs only while no member can yield), so q is a linear quantity of the
 motion plus a constant there, and the crest machinery of peaks.py (quintic_crests,
 settle_crests) finds its crests exactly as it finds a column deflection's: peaks_between
-lists them (CREST_GAUGE), settle_crests values them from the motion's Taylor series, the
-constant added to the series' first term.
+lists them (CREST_GAUGE) with the constant of the step's start (gauges.offset: a member
+that overshot its yield surface at the step's end changes it only there), settle_crests
+values them from the motion's Taylor series, the constant added to the series' first term.
 """
 
 from __future__ import annotations
@@ -88,3 +89,10 @@ def update_gauge_peaks(storey_work, gauges):
                 gauge_offset(g, gauges))  # fmt: skip
         if q > peak[g]:
             peak[g] = q
+
+
+@kernel(inline="always")
+def keep_offsets(gauges):
+    """gauges.offset = every gauge's plastic part at this state, for the exact step from it."""
+    for g in range(gauges.storey.size):
+        gauges.offset[g] = gauge_offset(g, gauges)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import TYPE_CHECKING, Callable, Protocol
 
 import numpy as np
 
@@ -50,6 +50,9 @@ from .tunables import (
     ENERGY_FLOOR_SPEED,
     ENERGY_LIMIT,
 )
+
+if TYPE_CHECKING:  # arrays only: the solver takes any object with these fields
+    from ..assembly.force_gauges import ForceGauges
 
 
 class StructureArrays(Protocol):
@@ -335,7 +338,7 @@ def simulate(
     substep: int = 0,
     sweep: bool | None = None,
     yield_substep: int = 0,
-    gauges: GaugeArrays | None = None,
+    gauges: ForceGauges | None = None,
 ) -> Response:
     """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
 
@@ -539,19 +542,7 @@ def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:
                     np.full((n_out if n_members else 0, n_members, 4), np.nan), np.zeros((n_members, 6)))  # fmt: skip
 
 
-class GaugeArrays(Protocol):
-    """What the solver needs of the force gauges (see pounding_cli.assembly.force_gauges)."""
-
-    storey: np.ndarray
-    weight: np.ndarray
-    first: np.ndarray
-    member: np.ndarray
-    member_axis: np.ndarray
-    plastic_weight: np.ndarray
-    storey_above: np.ndarray
-
-
-def gauge_state(gauges: GaugeArrays | None, structure: Structure, yielding: Yielding) -> Gauges:
+def gauge_state(gauges: ForceGauges | None, structure: Structure, yielding: Yielding) -> Gauges:
     """The force gauges' record (records.Gauges) on the structure's and the yielding members'
     own arrays, their peaks at zero; none where gauges is None."""
     n_storeys = structure.storey_top.size
@@ -560,10 +551,11 @@ def gauge_state(gauges: GaugeArrays | None, structure: Structure, yielding: Yiel
         return Gauges(ints, np.zeros((0, 3)), np.zeros(n_storeys + 1, dtype=np.int64), ints, ints, np.zeros((0, 3)),
                       np.full(n_storeys, -1, dtype=np.int64), structure.storey_top, structure.centre,
                       yielding.law.kh, yielding.plastic, yielding.g, yielding.peak, np.zeros((n_storeys, 3)),
-                      np.zeros(0))  # fmt: skip
+                      np.zeros(0), np.zeros(0))  # fmt: skip
     return Gauges(gauges.storey, gauges.weight, gauges.first, gauges.member, gauges.member_axis, gauges.plastic_weight,
                   gauges.storey_above, structure.storey_top, structure.centre, yielding.law.kh, yielding.plastic,
-                  yielding.g, yielding.peak, np.zeros((n_storeys, 3)), np.zeros(gauges.storey.size))  # fmt: skip
+                  yielding.g, yielding.peak, np.zeros((n_storeys, 3)), np.zeros(gauges.storey.size),
+                  np.zeros(gauges.storey.size))  # fmt: skip
 
 
 def exact_branch(

@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from .force_peaks import gauge_floor, gauge_linear, gauge_offset, update_gauge_peaks
+from .force_peaks import gauge_floor, gauge_linear, keep_offsets, update_gauge_peaks
 from .jit import INTERNAL, kernel, phase
 from .tunables import CREST_NEWTON_STEPS, SERIES_MAX_ORDER, SERIES_MIN_ORDER, SERIES_REMAINDER
 
@@ -210,8 +210,9 @@ CREST_COLUMN, CREST_TWIST, CREST_DISPLACEMENT, CREST_ACCELERATION, CREST_GAUGE =
 
 
 def crest_arrays(n_columns: int, n_storeys: int, n_dof: int, n_gauges: int = 0) -> np.ndarray:
-    """peaks_between's list of crests: room for four of every quantity it follows."""
-    return np.zeros((4 * (2 * n_columns + n_storeys + 2 * n_dof + n_gauges), 3))
+    """peaks_between's list of crests (kind, index, s, and a force gauge's plastic part):
+    room for four of every quantity it follows."""
+    return np.zeros((4 * (2 * n_columns + n_storeys + 2 * n_dof + n_gauges), 4))
 
 
 def crest_series_order(rho_h: float) -> int:
@@ -279,7 +280,7 @@ def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
                                                 storey_axes[st, 1], centre)  # fmt: skip
                 value = gauge_linear(index, dx, dy, rot, peaks.gauges)
                 if j == 0:
-                    value += gauge_offset(index, peaks.gauges)
+                    value += crests[i, 3]  # the plastic part over the step (_gauge_crests)
             elif kind == CREST_DISPLACEMENT:
                 value = series[j, index]
             else:
@@ -324,15 +325,20 @@ def _gauge_crests(s, h, between, storey_work, rx, ry, rt, bx, by, bt, floor_rati
     """Lists the crests of storey s's force gauges over an exact step (quintic_crests): each
     is linear in the storey deflection, whose values, rates and second derivatives at the
     step's start `between` holds and at its end storey_work, (rx, ry, rt) and (bx, by, bt)
-    give, plus its members' plastic part, constant over the step. Returns the new count."""
+    give, plus its members' plastic part at the step's start (gauges.offset), constant over
+    the step, which column 3 of its crests' rows keeps for settle_crests. Returns the new count."""
     for g in range(gauges.first[s], gauges.first[s + 1]):
-        off = gauge_offset(g, gauges)
+        off = gauges.offset[g]  # the step's start's: constant over the step
         q0 = gauge_linear(g, between[s, BT_VALUE], between[s, BT_VALUE + 1], between[s, BT_VALUE + 2], gauges) + off
         m0 = gauge_linear(g, between[s, BT_RATE], between[s, BT_RATE + 1], between[s, BT_RATE + 2], gauges)
         c0 = gauge_linear(g, between[s, BT_BEND], between[s, BT_BEND + 1], between[s, BT_BEND + 2], gauges)
         q1 = gauge_linear(g, storey_work[s, 0], storey_work[s, 1], storey_work[s, 2], gauges) + off
-        n = quintic_crests(q0, m0, c0, q1, gauge_linear(g, rx, ry, rt, gauges), gauge_linear(g, bx, by, bt, gauges),
-                           h, floor_ratio * gauge_floor(g, gauges), CREST_GAUGE, g, crests, n)  # fmt: skip
+        listed = quintic_crests(q0, m0, c0, q1, gauge_linear(g, rx, ry, rt, gauges),
+                                gauge_linear(g, bx, by, bt, gauges), h, floor_ratio * gauge_floor(g, gauges), CREST_GAUGE,
+                                g, crests, n)  # fmt: skip
+        for row in range(n, listed):
+            crests[row, 3] = off
+        n = listed
     return n
 
 
@@ -423,6 +429,7 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
         between[s, BT_BEND] = bx
         between[s, BT_BEND + 1] = by
         between[s, BT_BEND + 2] = bt
+    keep_offsets(peaks.gauges)
     if smooth:
         for d in range(n_dof):
             n = quintic_crests(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h,

@@ -159,6 +159,9 @@ class Gauges(NamedTuple):
     """(n_members, 6) the members' running peaks (Yielding.peak: the same array; |f_x|, |f_y| in 3, 4)"""
     resultant: np.ndarray
     """(n_storeys, 3) work: each storey's plastic resultant P_s at the state peaked, N, N, N·m"""
+    offset: np.ndarray
+    """(n_g,) each gauge's plastic part at the last exact state (constant over the exact step
+    from it, whatever a member's overshoot changes at its end), N (N·m)"""
     peak: np.ndarray
     """(n_g,) running max |q|, N (N·m)"""
 
