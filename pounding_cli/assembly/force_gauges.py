@@ -65,10 +65,6 @@ class ForceGauges:
     column_height: np.ndarray  # (n_columns,) m
     deflection_map: np.ndarray  # (n_storeys, 3, 6) (Ã_x, Ã_y, Δθ) of each storey from its (q_bottom, q_top)
 
-    @property
-    def size(self) -> int:
-        return int(self.storey.size)
-
 
 def deflection_map(system: System, s: int) -> np.ndarray:
     """(3, 6): storey s's deflection (Ã_x, Ã_y, Δθ) in building axes from the DOFs of its bottom
