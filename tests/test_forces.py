@@ -254,7 +254,7 @@ def test_forces_round_trip_through_hdf5_with_units_and_dimensions(linear, tmp_pa
         assert names == ["time", "column", "storey", "column_axis"]
 
 
-def test_column_force_histories_only_when_asked(linear):
+def test_column_force_histories_only_when_asked():
     building = square_building()
     f = run(model_doc(building), duration=0.5).buildings["b"].forces
     assert f.column_shear is None and f.column_moment is None
