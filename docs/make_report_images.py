@@ -84,12 +84,14 @@ def run_figures(runs: dict) -> dict:
     from pounding_cli.report.impacts import impact_figure
     from pounding_cli.report.plan import plan_figure
     from pounding_cli.report.profiles import profile_figure
+    from pounding_cli.report.shear_profiles import shear_figure
 
     run = runs["pounding"]
     return {
         "report-ground": ground_figure(run),
         "report-displacement": displacement_figure(run, [("left", 3), ("right", 3)]),
         "report-profiles": profile_figure([runs["pounding"], runs["wide gap"]], column="left:C9"),
+        "report-storey-shear": shear_figure([runs["pounding"], runs["wide gap"]]),
         "report-impacts": impact_figure(run),
         "report-energy": energy_figure(run),
         "report-plan": plan_figure(run),

@@ -35,6 +35,7 @@ from .assembly.levels import scene_unmet_neighbours
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
+from .assembly.force_gauges import force_gauges
 from .errors import AnalysisFailed, InputError
 from .gap.rest import clearance
 from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
@@ -43,6 +44,7 @@ from .plausibility import Notice
 from .model import Analysis, LoadedModel, load_model
 from .model.placement import stored_json
 from .results import RunResult, collect, write_hdf5
+from .results.forces import system_forces
 from .solver import simulate
 from .solver.tunables import MAX_RERUNS, RERUN_MARGIN
 
@@ -142,7 +144,8 @@ def scene_grid(
 
 def resource_size(scene: Scene) -> limits.Size:
     """What the scene stores at each output sample (for the resource limits)."""
-    return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size))
+    forces = limits.force_values(scene.system.buildings, scene.loaded.model.analysis.column_force_histories)
+    return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size), *forces)
 
 
 def resource_run(scene: Scene) -> limits.Run:
@@ -481,12 +484,13 @@ def execute(
     t0 = time.perf_counter()
     ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
     local_system, local_contact = local_origin(system, scene.contact, ref)
+    gauges = force_gauges(local_system, ref)
 
     def integrate(grid: TimeGrid) -> Any:
         return back_to_global(simulate(
             local_system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
             contact=local_contact if scene.contact.n_pairs else None, substep=grid.substep,
-            yield_substep=grid.yield_substep,
+            yield_substep=grid.yield_substep, gauges=gauges,
         ), ref)  # fmt: skip
 
     response = integrate(grid)
@@ -531,8 +535,10 @@ def execute(
     settle(response.status)  # a stop request the time loop did not see stops the run here
     if response.failure_dof >= 0:
         response.status += "; " + where_it_failed(system, response.failure_dof)
+    forces = system_forces(gauges, local_system, response, loaded.model.analysis.column_force_histories)
     result = collect(
-        system, response, stored_json(loaded.model), input_sha256(loaded, ground), diagnostics, scene.contact
+        system, response, stored_json(loaded.model), input_sha256(loaded, ground), diagnostics, scene.contact,
+        forces,
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     result.warnings = [n.as_dict() for n in scene.notices]

@@ -692,12 +692,12 @@ def report(
 
 
 @app.command(
-    help="Write a result file's histories, peaks and impact log as tidy CSV files.\n\n"
+    help="Write a result file's histories, peaks, forces and impact log as tidy CSV files.\n\n"
     "One file per quantity, DIR/<quantity>.csv: a header row naming each column with its unit "
     "in brackets (time [s], u_x [m]), then one row per observation (per time, building and floor "
     "for a history; per column and storey for the peak deflections; per contact episode for the "
     "impact log), for pandas and spreadsheets. --what picks quantities or groups of them "
-    "(histories, peaks, all; default all). The files are written together and renamed into "
+    "(histories, peaks, forces, all; default all). The files are written together and renamed into "
     "place at the end; existing ones are replaced only with --force. --json describes what was "
     "written (file, rows, columns with units).",
     epilog=_examples("pound export out.h5 --csv csv/", "pound export out.h5 --csv csv/ --what peaks --what impacts --json"),
@@ -708,7 +708,8 @@ def export(
     what: Annotated[
         list[str] | None,
         typer.Option("--what", metavar="QUANTITY", help="A quantity (displacement, velocity, acceleration, ground, energy, "
-                     "contact, yielding, interstorey_peaks, floor_peaks, impacts) or group (histories, peaks, all); repeatable."),
+                     "contact, yielding, interstorey_peaks, floor_peaks, impacts, storey_shear, column_forces, "
+                     "storey_shear_peaks, column_force_peaks) or group (histories, peaks, forces, all); repeatable."),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite CSV files that exist (never the result file).")] = False,
     json_: JsonOpt = False,

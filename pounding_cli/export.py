@@ -32,6 +32,7 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 from .errors import InputError
+from .export_forces import column_force_peak_table, column_force_table, storey_shear_peak_table, storey_shear_table
 
 Column = tuple[str, str]  # (name, unit; "" for a label)
 Table = tuple[list[Column], Iterable[list[Any]]]
@@ -167,12 +168,21 @@ QUANTITIES: dict[str, Quantity] = {
     "floor_peaks": Quantity("peak displacement (relative) and acceleration (absolute) of every floor, global axes",
                             _floor_peaks),
     "impacts": Quantity("the impact log: one row per contact episode (docs/user-guide.md, HDF5 layout)", _impacts),
+    "storey_shear": Quantity("storey shears V_x, V_y and torque T (building axes, about the mass centre of the floor "
+                             "above) and V_X, V_Y, T_O (global axes, about the origin); storey 1's is the base shear",
+                             storey_shear_table),
+    "column_forces": Quantity("each column's shear along its local x, y and end moments V*h/2 (only if the run "
+                              "stored them: analysis.column_force_histories)", column_force_table),
+    "storey_shear_peaks": Quantity("peak storey shears and torques, components as storey_shear", storey_shear_peak_table),
+    "column_force_peaks": Quantity("peak shear along local x, y and end moments of every column in every storey",
+                                   column_force_peak_table),
 }  # fmt: skip
 """What `pound export --what` names; the file is <name>.csv."""
 
 GROUPS: dict[str, list[str]] = {
     "histories": ["displacement", "velocity", "acceleration", "ground", "energy", "contact", "yielding"],
     "peaks": ["interstorey_peaks", "floor_peaks"],
+    "forces": ["storey_shear", "column_forces", "storey_shear_peaks", "column_force_peaks"],
     "all": list(QUANTITIES),
 }
 """Names of several quantities at once."""

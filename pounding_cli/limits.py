@@ -244,14 +244,26 @@ class Size:
     n_dof: int
     n_pairs: int
     n_members: int
+    n_forces: int = 0  # storey shear and floor contact force values (force_values)
+    n_column_forces: int = 0  # column force values, when their histories are asked for (force_values)
 
     @property
     def per_sample(self) -> int:
         """Bytes of history per output sample: time (1), ground acceleration (2), displacement,
         velocity and acceleration of every DOF (3 each), energy (7), normal and tangential force,
         area, depth and action point of every contact pair (6), deflection and force of every
-        yielding member (4); float64 throughout."""
-        return 8 * (1 + 2 + 3 * self.n_dof + 7 + 6 * self.n_pairs + 4 * self.n_members)
+        yielding member (4), the forces (force_values); float64 throughout."""
+        return 8 * (1 + 2 + 3 * self.n_dof + 7 + 6 * self.n_pairs + 4 * self.n_members + self.n_forces
+                    + self.n_column_forces)  # fmt: skip
+
+
+def force_values(buildings, column_histories: bool) -> tuple[int, int]:  # type: ignore[no-untyped-def]
+    """Force values per output sample of the buildings (assembly BuildingArrays): 6 per storey
+    and 6 for the base shear, 3 contact forces per floor; and with the column histories 4 per
+    column line and storey (shears and moments along local x, y, NaN where a line is absent)."""
+    storeys = sum(6 * b.n_floors + 6 + 3 * b.n_floors for b in buildings)
+    columns = sum(4 * len(b.column_lines) * b.n_floors for b in buildings) if column_histories else 0
+    return storeys, columns
 
 
 def history_bytes(size: Size, samples: int) -> int:
@@ -352,7 +364,7 @@ def check_run(run: Run, size: Size, source: str | Path, setup: Setup | None = No
             raise InputError(
                 f"{what} {_gib(estimate)} ({run.n_outputs:.3g} samples every {run.output_interval:.3g} s × "
                 f"{size.per_sample} bytes: {size.n_dof} DOFs, {size.n_pairs} contact pairs, {size.n_members} "
-                f"yielding members){besides}, more than the limit of {_gib(most)} ({variable}); {why}",
+                f"yielding members, {size.n_forces + size.n_column_forces} force values){besides}, more than the limit of {_gib(most)} ({variable}); {why}",
                 file=source,
                 field=field,
             )
@@ -446,6 +458,11 @@ def _suspect(run: Run, within: list[str]) -> tuple[str, str] | None:
 
 def _sample_cause(run: Run, size: Size, estimate: float, most: float) -> tuple[str, str]:
     """The field that makes the stored histories too large, and what to do about it."""
+    if size.n_column_forces and estimate * (1 - 8 * size.n_column_forces / size.per_sample) <= most:
+        return "analysis.column_force_histories", (
+            "the column force histories take most of it: set column_force_histories = false (the columns' peak "
+            "forces are stored regardless)"
+        )
     if run.given_duration is not None and estimate * run.record_duration / run.duration <= most:
         return "analysis.duration", (
             f"a duration of {run.given_duration:g} s is {run.given_duration / run.record_duration:.3g} times the "

@@ -111,23 +111,24 @@ def test_the_step_limit_refuses_about_a_billion_steps_and_accepts_below_the_limi
 
 def test_a_result_file_beyond_the_disk_limit_gives_the_estimate():
     doc = example_doc()
-    # 3 400 001 samples of 8 × (1 + 2 + 3 × 21 + 7 + 6 × 3) = 728 bytes: 2.475e9 B = 2.305 GiB
+    # 3 400 001 samples of 8 × (1 + 2 + 3 × 21 + 7 + 6 × 3 + 75) = 1328 bytes: 4.515e9 B = 4.205 GiB; the 75 force
+    # values: 6 per storey (7) and 6 per building's base shear (2), 3 contact forces per floor (7)
     doc["analysis"]["output_interval"] = 1e-5
     message = refusal(doc, MAX_OUTPUT_GB=0.5)
     assert message.endswith(
-        "analysis.output_interval: its result file would take 2.305 GiB (3.4e+06 samples every 1e-05 s × 728 bytes: "
-        "21 DOFs, 3 contact pairs, 0 yielding members), more than the limit of 512 MiB (POUND_MAX_OUTPUT_GB); "
+        "analysis.output_interval: its result file would take 4.205 GiB (3.4e+06 samples every 1e-05 s × 1328 bytes: "
+        "21 DOFs, 3 contact pairs, 0 yielding members, 75 force values), more than the limit of 512 MiB (POUND_MAX_OUTPUT_GB); "
         "store less often (a larger output interval) or shorten the analysis"
     )
 
 
 def test_histories_beyond_the_memory_limit_name_the_duration_when_it_is_the_cause():
     doc = example_doc()
-    # 100 times the record: 340 000 samples + 1 of 728 bytes, twice in memory, plus the impact log's
-    # buffer of 200 000 × 11 floats: 2 × 247.52 MB + 17.6 MB = 512.6 MB = 488.9 MiB
+    # 100 times the record: 340 000 samples + 1 of 1328 bytes, twice in memory, plus the impact log's
+    # buffer of 200 000 × 11 floats: 2 × 451.52 MB + 17.6 MB = 920.6 MB = 878 MiB
     doc["analysis"]["duration"] = 3400.0
     message = refusal(doc, MAX_MEMORY_GB=0.25, MAX_STEPS=1e10)  # (6.4e8 steps of the contact step)
-    assert "analysis.duration: its time histories would hold 488.9 MiB" in message
+    assert "analysis.duration: its time histories would hold 878 MiB" in message
     assert "more than the limit of 256 MiB (POUND_MAX_MEMORY_GB); a duration of 3400 s is 100 times" in message
 
 
@@ -146,7 +147,24 @@ def test_limits_can_be_raised_and_lowered_by_the_environment(monkeypatch):
     doc = example_doc()
     doc["analysis"]["output_interval"] = 1e-7
     monkeypatch.setenv("POUND_MAX_STEPS", "1e12")  # the step limit lets it through: the disk limit does not
-    assert "its result file would take 230.5 GiB" in refusal(doc)  # 3.4e8 samples × 728 bytes
+    assert "its result file would take 420.5 GiB" in refusal(doc)  # 3.4e8 samples × 1328 bytes
+
+
+def test_column_force_histories_are_counted_and_named_when_they_are_the_cause():
+    """4 values per column line and storey per sample (the paper's 9 + 15 lines over 4 and 3
+    storeys: 4 × (36 + 45) = 324, 2592 bytes) beside the 1328 the run stores anyway: 3920 bytes
+    × 340 001 samples = 1.241 GiB, which a 1 GiB limit refuses, naming the histories that
+    1328 bytes alone (0.42 GiB) would not need."""
+    doc = example_doc()
+    doc["analysis"].update(output_interval=1e-4, column_force_histories=True)
+    message = refusal(doc, MAX_OUTPUT_GB=1.0)
+    assert "analysis.column_force_histories: its result file would take 1.241 GiB" in message
+    assert "3920 bytes: 21 DOFs, 3 contact pairs, 0 yielding members, 399 force values" in message
+    assert message.endswith("set column_force_histories = false (the columns' peak forces are stored regardless)")
+    doc["analysis"]["column_force_histories"] = False
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("POUND_MAX_OUTPUT_GB", "1.0")
+        pound.describe(load_doc(doc))  # within the limit without them
 
 
 def test_the_command_line_exits_2_with_the_message(tmp_path):

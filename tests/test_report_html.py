@@ -35,9 +35,10 @@ def test_html_embeds_tables_and_plots(pounding, tmp_path):
     assert r.exit_code == 0, r.output
     text = out.read_text(encoding="utf-8")
     _self_contained(text)
-    assert text.count('src="data:image/png;base64,') == 6
+    assert text.count('src="data:image/png;base64,') == 7
     for words in ("<caption>Run</caption>", "<caption>Buildings</caption>", "left, column C9",
-                  "Impacts per contact pair", "Plan view of every level"):  # fmt: skip
+                  "Impacts per contact pair", "Plan view of every level", "Peak storey shears: left",
+                  "Peak column forces: left, column C9", "Peak storey shear and torque per storey"):  # fmt: skip
         assert words in text, words
     assert 'class="failed"' not in text
 
@@ -48,7 +49,7 @@ def test_html_reuses_the_written_plots_and_the_animation(pounding, tmp_path):
                             str(tmp_path / "a.gif"), "--max-frames", "5", "--html", str(out)])  # fmt: skip
     assert r.exit_code == 0, r.output
     text = out.read_text(encoding="utf-8")
-    assert text.count("data:image/png;base64,") == 6 and text.count("data:image/gif;base64,") == 1
+    assert text.count("data:image/png;base64,") == 7 and text.count("data:image/gif;base64,") == 1
     import base64
 
     plan = base64.b64encode((tmp_path / "p" / "plan.png").read_bytes()).decode()
@@ -57,7 +58,7 @@ def test_html_reuses_the_written_plots_and_the_animation(pounding, tmp_path):
 
 def test_html_svg(pounding):
     text = report_html([open_run(pounding)], fmt="svg")
-    assert text.count("data:image/svg+xml;base64,") == 6
+    assert text.count("data:image/svg+xml;base64,") == 7
 
 
 def test_failed_run_is_flagged_first(pounding, tmp_path, monkeypatch):

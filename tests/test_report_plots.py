@@ -198,7 +198,7 @@ def test_contact_normal():
 def test_write_plots(runs, tmp_path):
     files = write_plots([runs["pounding"]], tmp_path / "png")
     assert sorted(p.name for p in files) == sorted(
-        f"{n}.png" for n in ("ground", "displacement", "profiles", "impacts", "energy", "plan"))
+        f"{n}.png" for n in ("ground", "displacement", "profiles", "storey_shear", "impacts", "energy", "plan"))
     assert all(p.read_bytes().startswith(b"\x89PNG") for p in files)
 
 
@@ -217,7 +217,7 @@ def test_cli_plots_of_several_runs(runs, tmp_path):
     assert r.exit_code == 0, r.output
     names = sorted(p.name for p in (tmp_path / "out").iterdir())
     assert "profiles.png" in names and "pounding-plan.png" in names and "wide-ground.png" in names
-    assert len(names) == 11
+    assert len(names) == 12  # 5 per run, and the profiles and storey shears of both on one figure each
     assert "wrote " in r.stderr
 
 

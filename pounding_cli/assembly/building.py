@@ -39,8 +39,16 @@ class ColumnInstance:
     storey: int  # 0 = ground storey
     arm_bottom: np.ndarray  # offset from the bottom floor's mass centre, m (global axes)
     arm_top: np.ndarray  # offset from the top floor's mass centre, m (global axes)
-    stiffness: np.ndarray | None = None  # (2, 2) lateral stiffness in global axes, fixed at both ends, N/m
+    stiffness: tuple[float, float] = (0.0, 0.0)  # 12EI/h³ along its local x, y, N/m (initial, if it yields)
+    angle: float = 0.0  # rad, its local x axis from global X
+    height: float = 0.0  # m, the storey's height (fixed-fixed end moments M = V·h/2)
+    member: int = -1  # its index in the building's yielding members, −1 if it stays linear
     shear_capacity: tuple[float, float] | None = None  # N, along the column's local x and y (the model's)
+
+    @property
+    def plan_stiffness(self) -> np.ndarray:
+        """(2, 2) lateral stiffness in global axes, N/m (fixed at both ends; initial, if it yields)."""
+        return column_plan_stiffness(*self.stiffness, self.angle)
 
 
 @dataclass(frozen=True)
@@ -197,7 +205,9 @@ def assemble_building(
             arm_b = p - centre[s - 1] if s > 0 else np.zeros(2)
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
-            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], plan_k[-1], col.shear_capacity))
+            member = len(members) if col.hysteresis is not None else -1
+            instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], (kx, ky), angle, floor.height, member,
+                                            col.shear_capacity))  # fmt: skip
             if col.hysteresis is not None:
                 law = laws[col.hysteresis]
                 fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])

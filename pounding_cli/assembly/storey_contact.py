@@ -116,7 +116,7 @@ def struck_columns(struck: BuildingArrays, storey: int, p: np.ndarray, q: np.nda
     above = storey - 1
     found = []
     for i, col in enumerate(struck.columns):
-        if col.storey != storey - 1 or col.stiffness is None:
+        if col.storey != storey - 1:
             continue
         where = struck.mass_centre[above] + col.arm_top - p
         found.append((i, float(where @ e), float(-(where @ outward))))  # along, inward depth
@@ -146,8 +146,8 @@ def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing) -> St
     normal = np.array([e[1], -e[0]])
     columns = struck_columns(struck, crossing.storey, p, q, start, line)
     factor = point_load_factor(crossing.xi)
-    k_n = sum(float(normal @ struck.columns[i].stiffness @ normal) for i in columns) / factor
-    k_t = sum(float(e @ struck.columns[i].stiffness @ e) for i in columns) / factor
+    k_n = sum(float(normal @ struck.columns[i].plan_stiffness @ normal) for i in columns) / factor
+    k_t = sum(float(e @ struck.columns[i].plan_stiffness @ e) for i in columns) / factor
     arm = struck.mass_centre[above] - struck.mass_centre[below] if below >= 0 else np.zeros(2)
     return StoreyBody(crossing, below, above, storey_shape(crossing.xi), arm, normal, line, columns,
                       1.0 / k_n if k_n > 0 else 0.0, 1.0 / k_t if k_t > 0 else 0.0)  # fmt: skip

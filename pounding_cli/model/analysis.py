@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, PlainValidator, WithJsonSchema
 
-from .base import Positive, Strict
+from .base import Flag, Positive, Strict
 
 
 def _dt_or_auto(value: Any) -> float | Literal["auto"]:
@@ -57,3 +57,9 @@ class Analysis(Strict):
     output_interval: Annotated[Positive, Field(le=10.0)] = 0.01
     """Interval of the stored time histories, s; rounded to a whole number of time steps.
     Peaks are taken at every step regardless."""
+
+    column_force_histories: Flag = False
+    """Whether to store every column's shear forces along its local axes (N) and end moments
+    (N·m) at the output interval, besides their peaks, which are always stored: 4 numbers per
+    column and storey per sample, counted in the result file's size (the resource limits).
+    Storey shears and the base shear are always stored as histories."""

@@ -17,16 +17,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict
-
+from .document_model import _Output
+from .force_document import ForceReport, force_report
 from .load import Run, open_run
 
 G = 9.80665
 """Standard gravity, m/s² (PGA in g)."""
-
-
-class _Output(BaseModel):
-    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True)
 
 
 class Peak(_Output):
@@ -182,6 +178,8 @@ class BuildingReport(_Output):
     """Whether the building is base-isolated: floor 1 is its base slab, storey 1 the isolation storey."""
     yielding: YieldingReport | None
     """Inelastic columns and isolators (/buildings/<name>/yielding); null if it has none."""
+    forces: ForceReport | None = None
+    """Peak storey shears and column forces; null in a file written before pound stored them."""
 
 
 class ImpactEvent(_Output):
@@ -510,6 +508,7 @@ def _building(b: Any, column: str | None) -> BuildingReport:
         peak_acceleration=b.peak_acceleration.tolist(),
         isolated=bool(b.isolated),
         yielding=_yielding(b, column),
+        forces=force_report(b, columns_of(b, column)),
     )
 
 

@@ -73,6 +73,7 @@ CAPTIONS = {
     "ground": "Ground acceleration along global X and Y, with the impacts of the log.",
     "displacement": "Floor displacements at the mass centres, relative to the ground.",
     "profiles": "Peak interstorey deflection per storey (the paper's figures 6 and 7).",
+    "storey_shear": "Peak storey shear and torque per storey; storey 1's is the base shear.",
     "impacts": "Impact force and overlap area: histories at the output interval and each episode's peak from the log.",
     "energy": "Energy balance: the energies stacked under the input energy, and the balance error.",
     "plan": "Plan view of every level at the instant of peak impact force.",

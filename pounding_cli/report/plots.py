@@ -1,9 +1,10 @@
 """Every plot of a report, drawn and written into a folder (``pound report --plots DIR``).
 
-One run: ``ground``, ``displacement``, ``profiles``, ``impacts``, ``energy`` and ``plan``
-(.png, .svg or .pdf), and ``<building>-loops`` for each building with yielding members
-(inelastic columns, isolators) to draw. Several runs: each run's plots prefixed with its label
-(``<label>-ground.png``, ...) and one ``profiles`` figure comparing them all.
+One run: ``ground``, ``displacement``, ``profiles``, ``storey_shear``, ``impacts``, ``energy``
+and ``plan`` (.png, .svg or .pdf), and ``<building>-loops`` for each building with yielding
+members (inelastic columns, isolators) to draw. Several runs: each run's plots prefixed with its
+label (``<label>-ground.png``, ...) and one ``profiles`` and one ``storey_shear`` figure
+comparing them all.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from .load import Run
 from .loops import loop_buildings, loop_figure, loop_members
 from .plan import plan_figure
 from .profiles import profile_figure
+from .shear_profiles import shear_figure
 from .style import FORMATS, save_as
 
 if TYPE_CHECKING:
@@ -35,6 +37,7 @@ def run_figures(
         "ground": lambda: ground_figure(run),
         "displacement": lambda: displacement_figure(run, floors),
         "profiles": lambda: profile_figure([run], column),
+        "storey_shear": lambda: shear_figure([run]),
         "impacts": lambda: impact_figure(run),
         "energy": lambda: energy_figure(run),
         "plan": lambda: plan_figure(run, magnify),
@@ -51,10 +54,11 @@ def all_figures(
     """File stem → figure function for a report on `runs` (see the module's docstring)."""
     if len(runs) == 1:
         return run_figures(runs[0], column, floors, magnify)
-    out: dict[str, Callable[[], Figure]] = {"profiles": lambda: profile_figure(runs, column)}
+    out: dict[str, Callable[[], Figure]] = {"profiles": lambda: profile_figure(runs, column),
+                                            "storey_shear": lambda: shear_figure(runs)}  # fmt: skip
     for run in runs:
         for name, draw in run_figures(run, column, floors, magnify).items():
-            if name != "profiles":
+            if name not in out:
                 out[f"{run.label.replace('/', '-')}-{name}"] = draw
     return out
 

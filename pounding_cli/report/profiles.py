@@ -39,11 +39,23 @@ def profile_series(run: Run, column: str | None = None) -> list[tuple[str, np.nd
     return out
 
 
+def storey_panels(axes, labels: Sequence[str], top: int) -> None:  # type: ignore[no-untyped-def]
+    """Panels of peaks against storey 1 … top: x labelled "peak <label>" from 0, storeys up the y axis."""
+    from matplotlib.ticker import MaxNLocator
+
+    for ax, label in zip(axes, labels):
+        ax.set_xlabel(f"peak {label}")
+        ax.set_xlim(left=0)
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+    axes[0].set_ylabel("storey")
+    axes[0].set_yticks(np.arange(1, top + 1))
+    axes[0].set_ylim(0.5, top + 0.5)
+    grid(axes)
+
+
 def profile_figure(runs: Sequence[Run], column: str | None = None) -> Figure:
     """The three profiles of every run in `runs` on one figure; legend: run label and
     building (and column)."""
-    from matplotlib.ticker import MaxNLocator
-
     for run in runs:
         check_column(run, column)
     fig = figure(9.0, 4.2)
@@ -59,14 +71,7 @@ def profile_figure(runs: Sequence[Run], column: str | None = None) -> Figure:
                 ax.plot(factor * values[:, c], storeys, marker=MARKERS[k % len(MARKERS)], ms=4, lw=1.0,
                         color=colour(k), label=name)  # fmt: skip
             k += 1
-    for ax, (_, label, _) in zip(axes, COMPONENTS):
-        ax.set_xlabel(f"peak {label}")
-        ax.set_xlim(left=0)
-        ax.xaxis.set_major_locator(MaxNLocator(5))
-    axes[0].set_ylabel("storey")
-    axes[0].set_yticks(np.arange(1, top + 1))
-    axes[0].set_ylim(0.5, top + 0.5)
-    grid(axes)
+    storey_panels(axes, [label for _, label, _ in COMPONENTS], top)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=min(3, max(1, len(labels))), fontsize="small")
     what = f"column {column}" if column else "largest over the columns"

@@ -205,7 +205,10 @@ def energy_table(doc: dict[str, Any]) -> TableSpec:
 
 def run_tables(doc: dict[str, Any]) -> list[TableSpec]:
     """Every table of a run's report, in order."""
-    tables = [run_table(doc), buildings_table(doc), peaks_table(doc), *deflection_tables(doc), *yielding_tables(doc)]
+    from .force_tables import force_tables  # it builds on TableSpec
+
+    tables = [run_table(doc), buildings_table(doc), peaks_table(doc), *deflection_tables(doc), *force_tables(doc),
+              *yielding_tables(doc)]  # fmt: skip
     impacts = impacts_table(doc)
     if impacts is not None:
         tables.append(impacts)

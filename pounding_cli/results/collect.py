@@ -10,6 +10,7 @@ from ..assembly import BuildingArrays, ContactArrays, System
 from ..solver import Response
 from ..solver import contact as kernel
 from .column_demand import column_demand
+from .forces import SystemForces, force_result
 from .result import EVENT_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult, YieldingResult
 
 
@@ -35,7 +36,7 @@ def yielding_result(bld: BuildingArrays, response: Response, offset: int) -> Yie
 
 
 def building_result(system: System, b: int, response: Response, column_offset: int,
-                    member_offset: int = 0) -> BuildingResult:  # fmt: skip
+                    member_offset: int = 0, forces: SystemForces | None = None) -> BuildingResult:  # fmt: skip
     """Cut building b's part out of a response; its column instances start at column_offset."""
     bld: BuildingArrays = system.buildings[b]
     dofs = system.building_dofs(b)
@@ -69,6 +70,7 @@ def building_result(system: System, b: int, response: Response, column_offset: i
         yielding=yielding_result(bld, response, member_offset),
         isolated=bld.isolated,
         base_elevation=bld.base_elevation,
+        forces=force_result(forces, system, b, response, column_offset) if forces is not None else None,
     )
 
 
@@ -112,12 +114,14 @@ def collect(
     input_sha256: str,
     diagnostics: dict[str, Any],
     contact: ContactArrays | None = None,
+    forces: SystemForces | None = None,
 ) -> RunResult:
-    """Assemble a RunResult from the solver's response."""
+    """Assemble a RunResult from the solver's response (with `forces`, results/forces.py, the
+    buildings' storey shears and column forces)."""
     buildings = {}
     offset = members = 0
     for b, bld in enumerate(system.buildings):
-        buildings[bld.name] = building_result(system, b, response, offset, members)
+        buildings[bld.name] = building_result(system, b, response, offset, members, forces)
         offset += len(bld.columns)
         members += len(bld.members)
     return RunResult(

@@ -87,8 +87,8 @@ def struck_column_shears(system: System, body: StoreyBody, column: int, t: np.nd
     first = int(system.floor_start[body.crossing.struck])
     normal = body.normal
     along = np.array([-normal[1], normal[0]])
-    stiff_n = np.array([normal @ struck.columns[i].stiffness @ normal for i in body.columns])
-    stiff_t = np.array([along @ struck.columns[i].stiffness @ along for i in body.columns])
+    stiff_n = np.array([normal @ struck.columns[i].plan_stiffness @ normal for i in body.columns])
+    stiff_t = np.array([along @ struck.columns[i].plan_stiffness @ along for i in body.columns])
     j = body.columns.index(column)
     share_n = stiff_n[j] / stiff_n.sum() if stiff_n.sum() > 0 else 0.0
     share_t = stiff_t[j] / stiff_t.sum() if stiff_t.sum() > 0 else 0.0
@@ -104,7 +104,7 @@ def struck_column_shears(system: System, body: StoreyBody, column: int, t: np.nd
     # force of the part above a section on the part below, is K·δ all along, and the load adds
     # +V_bottom below it and −V_top above it
     drift = q_top @ rigid_arm(col.arm_top).T - q_bottom @ rigid_arm(col.arm_bottom).T
-    storey = drift @ col.stiffness.T
+    storey = drift @ col.plan_stiffness.T
     impact_bottom, impact_top = (v_bottom * load) @ axes.T, (-v_top * load) @ axes.T
     return {"share": share_n, "load": load, "impact_bottom": impact_bottom, "impact_top": impact_top,
             "bottom": storey @ axes.T + impact_bottom, "top": storey @ axes.T + impact_top}  # fmt: skip

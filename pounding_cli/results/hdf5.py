@@ -267,6 +267,10 @@ def _write_building(g: h5py.Group, b: BuildingResult, time: h5py.Dataset) -> Non
         _write_yielding(yielding, b.yielding, time)
         for name in ("ductility", "residual_deflection", "member", "local_axis"):  # hard links: one dataset, two names
             peaks[name] = yielding[name]
+    if b.forces is not None:
+        from .forces_hdf5 import write_forces  # it builds on this module's helpers
+
+        write_forces(g.create_group("forces"), peaks, b.forces, time, floor, storey, column)
 
 
 def _write_yielding(g: h5py.Group, y: YieldingResult, time: h5py.Dataset) -> None:
@@ -347,6 +351,8 @@ def _read_contact(g: h5py.Group) -> ContactResult:
 
 
 def _read_building(g: h5py.Group) -> BuildingResult:
+    from .forces_hdf5 import read_forces  # it builds on this module's helpers
+
     cols = g["columns"][()]
     floors = g["floors"][()]
     return BuildingResult(
@@ -371,6 +377,7 @@ def _read_building(g: h5py.Group) -> BuildingResult:
         yielding=_read_yielding(g["yielding"]) if "yielding" in g else None,
         isolated=bool(g.attrs.get("isolated", False)),
         base_elevation=float(g.attrs.get("base_elevation", 0.0)),
+        forces=read_forces(g),
     )
 
 

@@ -53,6 +53,24 @@ class YieldingResult:
 
 
 @dataclass
+class ForceResult:
+    """One building's storey shears and column forces (results/forces.py: components and signs).
+    Storeys bottom up (an isolated building's isolation storey first); columns as the building's
+    column lines, NaN where a line has no column in a storey. Histories at the output interval,
+    peaks over every step and between steps."""
+
+    storey_shear: np.ndarray  # (nt, n_storeys, 6) STOREY_COMPONENTS, N and N·m
+    base_shear: np.ndarray  # (nt, 6) the same, of the storey on the ground
+    floor_contact: np.ndarray  # (nt, n_floors, 3) contact forces on the floors: F_x, F_y N, torque N·m about the mass centre
+    peak_storey_shear: np.ndarray  # (n_storeys, 6) running max |·| over every step, N and N·m
+    peak_base_shear: np.ndarray  # (6,)
+    peak_column_shear: np.ndarray  # (n_columns, n_storeys, 2) local x, y, N
+    peak_column_moment: np.ndarray  # (n_columns, n_storeys, 2) N·m
+    column_shear: np.ndarray | None = None  # (nt, n_columns, n_storeys, 2) when asked for (analysis.column_force_histories)
+    column_moment: np.ndarray | None = None  # (nt, n_columns, n_storeys, 2)
+
+
+@dataclass
 class BuildingResult:
     """One building's histories and peaks. Floors bottom up; storey s is below floor s."""
 
@@ -77,6 +95,7 @@ class BuildingResult:
     yielding: YieldingResult | None = None  # inelastic columns and isolators, if any
     isolated: bool = False  # floor 1 is a base slab on isolators (storey 1: the isolation storey)
     base_elevation: float = 0.0  # m: the building's ground (elevation is measured from the common datum)
+    forces: ForceResult | None = None  # storey shears and column forces
 
     def column(self, name: str) -> np.ndarray:
         """Peak interstorey deflections (n_storeys, 3) of one column by name."""

@@ -153,9 +153,10 @@ def accumulate_energy(acc, dt, p_in, p_damp, p_contact):
 
 
 @kernel(**INTERNAL)
-def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plastic):
+def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, fc, out, e_plastic):
     """Store the state at output sample k into out (records.Output; ku = K·u at that instant,
-    e_plastic what yielding members change in the strain energy ½uᵀKu, hysteresis.py);
+    fc the contact forces on the floors, e_plastic what yielding members change in the strain
+    energy ½uᵀKu, hysteresis.py);
     returns STATUS_OK, or STATUS_DIVERGED when a displacement passes DIVERGENCE_LIMIT or is
     NaN, or STATUS_ENERGY when the energy balance error passes ENERGY_LIMIT of the energy in
     play."""
@@ -171,6 +172,7 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, out, e_plast
         out_u[k, d] = u[d]
         out_v[k, d] = v[d]
         out_a[k, d] = a_abs[d]
+        out.floor_contact[k, d] = fc[d]
         if u[d] != u[d]:
             worst = np.inf
         elif abs(u[d]) > worst:
@@ -267,7 +269,7 @@ def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact,
             member_states(motion.u, yielding.law, yielding.plastic, n // per_output, yielding.history, yielding.peak)
             e_plastic = plastic_energy_terms(motion.u, yielding.g, yielding.law, yielding.plastic)
         return write_output(n // per_output, motion.u, work.v, work.a_abs, motion.ku, agx, agy, structure.mass,
-                            motion.energy, contact.now, out, e_plastic)  # fmt: skip
+                            motion.energy, contact.now, contact.force, out, e_plastic)  # fmt: skip
     if has_members:
         member_states(motion.u, yielding.law, yielding.plastic, -1, yielding.history, yielding.peak)
     return STATUS_OK

@@ -148,7 +148,7 @@ def _state_at_substep(k, grid, structure, ground, exact, motion, work, peaks, ou
         e_plastic = plastic_energy_terms(motion.u, yielding.g, yielding.law, yielding.plastic)
     if output:
         return write_output(k // grid.per_output, motion.u, exact.v, work.a_abs, motion.ku, agx, agy,
-                            structure.mass, motion.energy, contact.now, out, e_plastic), yielded  # fmt: skip
+                            structure.mass, motion.energy, contact.now, contact.force, out, e_plastic), yielded  # fmt: skip
     return STATUS_OK, yielded
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import TYPE_CHECKING, Callable, Protocol
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from .records import (
     Crests,
     Damping,
     Exact,
+    Gauges,
     Ground,
     MemberLaw,
     Motion,
@@ -50,6 +51,9 @@ from .tunables import (
     ENERGY_FLOOR_SPEED,
     ENERGY_LIMIT,
 )
+
+if TYPE_CHECKING:  # arrays only: the solver takes any object with these fields
+    from ..assembly.force_gauges import ForceGauges
 
 
 class StructureArrays(Protocol):
@@ -207,6 +211,8 @@ class Response:
     member_history: np.ndarray | None = None  # (n_out, n_members, 4) local δ_x, δ_y m, f_x, f_y N
     peak_member: np.ndarray | None = None  # (n_members, 6) |δ_x|, |δ_y|, |δ| m, |f_x|, |f_y|, |f| N
     residual_member: np.ndarray | None = None  # (n_members, 2) local deflection at rest after the run, m
+    peak_gauge: np.ndarray | None = None  # (n_gauges,) running max |q| of the force gauges, N or N·m
+    floor_contact: np.ndarray | None = None  # (n_out, n_dof) contact forces on the floors, N and N·m
 
 
 def ground_as_floor(structure: StructureArrays) -> np.ndarray:
@@ -341,6 +347,7 @@ def simulate(
     substep: int = 0,
     sweep: bool | None = None,
     yield_substep: int = 0,
+    gauges: ForceGauges | None = None,
 ) -> Response:
     """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
 
@@ -350,6 +357,8 @@ def simulate(
     ground_dt so that the ground acceleration is linear within each substep).
     yield_substep = s_y (1 ≤ s_y ≤ s; 0: s): the hybrid's CDM takes s_y steps per substep
     where only yielding members need it (no contact possible).
+    gauges: the storey shears and column forces whose running peaks to follow
+    (assembly.force_gauges; none if None).
     The structure starts undeformed, at rest or with `initial_velocity` (n_dof,) relative to
     the ground, and out of contact. The contact broad phase sweeps and prunes (sweep=True) or
     tests every pair (False); None chooses the cheaper for the scene (broad_phase.sweep_pays).
@@ -381,15 +390,18 @@ def simulate(
     acc[cdm.ACC_INPUT] = 0.5 * float(np.sum(structure.mass * v0[:n_dof] ** 2))  # an initial motion's energy
     motion = Motion(np.zeros(n_dof + 3), v_half, np.zeros(n_dof + 3), damping_times(structure, v_half), acc)
     work = Work(*(np.zeros(n_dof + 3) for _ in range(6)), np.zeros((n_storeys, 3)))
-    peaks = Peaks(np.zeros((structure.column_storey.size, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof))
+    yielding = yielding_state(structure, n_out)
+    n_members = yielding.plastic.shape[0]
+    gauge_rec = gauge_state(gauges, structure_rec, yielding)
+    peaks = Peaks(np.zeros((structure.column_storey.size, 2)), np.zeros(n_storeys), np.zeros(n_dof), np.zeros(n_dof),
+                  gauge_rec)  # fmt: skip
     c = contact if contact is not None else NoContact()
     n_pairs = c.pair_a.size
     out = Output(*(np.full((n_out, n_dof), np.nan) for _ in range(3)), np.full((n_out, 2), np.nan),
                  np.full((n_out, 7), np.nan),
-                 np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan))  # fmt: skip
+                 np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan),
+                 np.full((n_out, n_dof), np.nan))  # fmt: skip
     contact_rec = contact_state(c, n_dof, sweep)
-    yielding = yielding_state(structure, n_out)
-    n_members = yielding.plastic.shape[0]
     counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
     counters[hybrid.CNT_FAILED_STEP] = -1
     if substep > 0:
@@ -402,7 +414,7 @@ def simulate(
         binv_y = step_matrices(structure, h / sub_y)[0] if sub_y != substep else binv
         yield_step = CdmStep(h / sub_y, binv_y, stride // substep * sub_y, sub_y)
         propagators, exact = exact_branch(structure, structure_rec, v0, h, substep, stride, ground_dt, n_pairs > 0,
-                                          n_members > 0)  # fmt: skip
+                                          n_members > 0, gauge_rec.storey.size)  # fmt: skip
         progress_state = Progress(np.zeros(1, dtype=np.int64), counters)
         unit, total = substep, n_steps // substep
 
@@ -500,6 +512,8 @@ def simulate(
         member_history=yielding.history[cut] if n_members else None,
         peak_member=yielding.peak if n_members else None,
         residual_member=residual_deflections(structure, yielding.plastic, yielding.law) if n_members else None,
+        peak_gauge=gauge_rec.peak,
+        floor_contact=out.floor_contact[cut],
     )
 
 
@@ -551,9 +565,25 @@ def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:
                     np.full((n_out if n_members else 0, n_members, 4), np.nan), np.zeros((n_members, 6)))  # fmt: skip
 
 
+def gauge_state(gauges: ForceGauges | None, structure: Structure, yielding: Yielding) -> Gauges:
+    """The force gauges' record (records.Gauges) on the structure's and the yielding members'
+    own arrays, their peaks at zero; none where gauges is None."""
+    n_storeys = structure.storey_top.size
+    if gauges is None:
+        ints = np.zeros(0, dtype=np.int64)
+        return Gauges(ints, np.zeros((0, 3)), np.zeros(n_storeys + 1, dtype=np.int64), ints, ints, np.zeros((0, 3)),
+                      np.full(n_storeys, -1, dtype=np.int64), structure.storey_top, structure.centre,
+                      yielding.law.kh, yielding.plastic, yielding.g, yielding.peak, np.zeros((n_storeys, 3)),
+                      np.zeros(0), np.zeros(0))  # fmt: skip
+    return Gauges(gauges.storey, gauges.weight, gauges.first, gauges.member, gauges.member_axis, gauges.plastic_weight,
+                  gauges.storey_above, structure.storey_top, structure.centre, yielding.law.kh, yielding.plastic,
+                  yielding.g, yielding.peak, np.zeros((n_storeys, 3)), np.zeros(gauges.storey.size),
+                  np.zeros(gauges.storey.size))  # fmt: skip
+
+
 def exact_branch(
     structure: StructureArrays, structure_rec: Structure, v0: np.ndarray, h: float, substep: int, stride: int,
-    ground_dt: float, has_pairs: bool, has_members: bool,
+    ground_dt: float, has_pairs: bool, has_members: bool, n_gauges: int = 0,
 ) -> tuple[Propagators, Exact]:
     """The hybrid's exact branch (records.Propagators, records.Exact) for substeps of h s (substep CDM steps each,
     output every `stride` steps, record samples every ground_dt s) from the velocity v0: the
@@ -576,7 +606,8 @@ def exact_branch(
     span = rho * (2 * h if doubles else h)
     series = np.zeros((crest_series_order(span), n_dof + 3))
     crest = Crests(1.0 - min(0.5, CREST_MARGIN * span**6 / 46080),
-                   crest_arrays(structure_rec.column_arm.shape[0], n_storeys, n_dof), series, np.zeros((2, n_dof + 3)),
+                   crest_arrays(structure_rec.column_arm.shape[0], n_storeys, n_dof, n_gauges), series,
+                   np.zeros((2, n_dof + 3)),
                    np.zeros(series.shape[0]))  # fmt: skip
     n2 = by_level.phi.shape[2]
     between, first = between_arrays(structure.column_storey, structure_rec.column_arm, n_storeys)

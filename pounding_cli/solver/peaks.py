@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 
+from .force_peaks import gauge_floor, gauge_linear, keep_offsets, update_gauge_peaks
 from .jit import INTERNAL, kernel, phase
 from .tunables import CREST_NEWTON_STEPS, SERIES_MAX_ORDER, SERIES_MIN_ORDER, SERIES_REMAINDER
 
@@ -65,12 +66,13 @@ def update_peaks(u, acc_abs, structure, storey_work, peaks):
     storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
     In building axes (cos φ, sin φ) the deflection is Ã + Δθ·(ξ, η) with
     ξ = −cos φ·P_y + sin φ·P_x and η = sin φ·P_y + cos φ·P_x (col_arm holds ξ, η).
-    storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey.
+    storey_work (n_storeys, 3) receives Ã_x, Ã_y, Δθ of each storey; the storey shears and
+    column forces are gauges of them (force_peaks.py).
     """
     storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
         structure.storey_axes, structure.centre  # fmt: skip
     col_storey, col_arm, n_dof = structure.column_storey, structure.column_arm, structure.mass.size
-    peak_col, peak_rot, peak_disp, peak_acc = peaks
+    peak_col, peak_rot, peak_disp, peak_acc = peaks.column, peaks.storey_rotation, peaks.displacement, peaks.acceleration
     for s in range(storey_top.size):
         dx, dy, rot = storey_deflection(u, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                         centre)  # fmt: skip
@@ -87,6 +89,7 @@ def update_peaks(u, acc_abs, structure, storey_work, peaks):
             peak_col[k, 0] = lx
         if ly > peak_col[k, 1]:
             peak_col[k, 1] = ly
+    update_gauge_peaks(storey_work, peaks.gauges)
     for d in range(n_dof):
         if abs(u[d]) > peak_disp[d]:
             peak_disp[d] = abs(u[d])
@@ -202,13 +205,14 @@ def quintic_crests(q0, m0, c0, q1, m1, c1, h, floor, kind, index, crests, n):
 
 # the kinds of quantity a crest belongs to (column 0 of crests): a column's deflection
 # (index 2·column + axis), a storey's twist, a floor displacement, a floor's absolute
-# acceleration (index: the DOF)
-CREST_COLUMN, CREST_TWIST, CREST_DISPLACEMENT, CREST_ACCELERATION = 0, 1, 2, 3
+# acceleration (index: the DOF), a force gauge (force_peaks.py; index: the gauge)
+CREST_COLUMN, CREST_TWIST, CREST_DISPLACEMENT, CREST_ACCELERATION, CREST_GAUGE = 0, 1, 2, 3, 4
 
 
-def crest_arrays(n_columns: int, n_storeys: int, n_dof: int) -> np.ndarray:
-    """peaks_between's list of crests: room for four of every quantity it follows."""
-    return np.zeros((4 * (2 * n_columns + n_storeys + 2 * n_dof), 3))
+def crest_arrays(n_columns: int, n_storeys: int, n_dof: int, n_gauges: int = 0) -> np.ndarray:
+    """peaks_between's list of crests (kind, index, s, and a force gauge's plastic part):
+    room for four of every quantity it follows."""
+    return np.zeros((4 * (2 * n_columns + n_storeys + 2 * n_dof + n_gauges), 4))
 
 
 def crest_series_order(rho_h: float) -> int:
@@ -253,7 +257,7 @@ def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
     storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
         structure.storey_axes, structure.centre  # fmt: skip
     col_storey, col_arm = structure.column_storey, structure.column_arm
-    peak_col, peak_rot, peak_disp, peak_acc = peaks
+    peak_col, peak_rot, peak_disp, peak_acc = peaks.column, peaks.storey_rotation, peaks.displacement, peaks.acceleration
     n_rows = series.shape[0]
     for i in range(n):
         kind = int(crests[i, 0])
@@ -270,6 +274,13 @@ def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
                 else:
                     axis = index % 2
                     value = (dx if axis == 0 else dy) + rot * col_arm[index // 2, axis]
+            elif kind == CREST_GAUGE:
+                st = peaks.gauges.storey[index]
+                dx, dy, rot = storey_deflection(series[j], storey_top[st], storey_bottom[st], storey_axes[st, 0],
+                                                storey_axes[st, 1], centre)  # fmt: skip
+                value = gauge_linear(index, dx, dy, rot, peaks.gauges)
+                if j == 0:
+                    value += crests[i, 3]  # the plastic part over the step (_gauge_crests)
             elif kind == CREST_DISPLACEMENT:
                 value = series[j, index]
             else:
@@ -293,6 +304,8 @@ def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
             peak_col[index // 2, index % 2] = max(peak_col[index // 2, index % 2], best)
         elif kind == CREST_TWIST:
             peak_rot[index] = max(peak_rot[index], best)
+        elif kind == CREST_GAUGE:
+            peaks.gauges.peak[index] = max(peaks.gauges.peak[index], best)
         elif kind == CREST_DISPLACEMENT:
             peak_disp[index] = max(peak_disp[index], best)
         else:
@@ -305,6 +318,28 @@ def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
 BT_VALUE, BT_RATE, BT_ARM, BT_LOWEST, BT_BEND = 0, 3, 6, 8, 10
 BT_COLUMNS = 13
 KEPT_ROWS = 6  # peaks_between's `kept`: u, v, a_abs, ȧ_abs, a_rel, ä_abs less its ground part
+
+
+@kernel(inline="always")
+def _gauge_crests(s, h, between, storey_work, rx, ry, rt, bx, by, bt, floor_ratio, gauges, crests, n):
+    """Lists the crests of storey s's force gauges over an exact step (quintic_crests): each
+    is linear in the storey deflection, whose values, rates and second derivatives at the
+    step's start `between` holds and at its end storey_work, (rx, ry, rt) and (bx, by, bt)
+    give, plus its members' plastic part at the step's start (gauges.offset), constant over
+    the step, which column 3 of its crests' rows keeps for settle_crests. Returns the new count."""
+    for g in range(gauges.first[s], gauges.first[s + 1]):
+        off = gauges.offset[g]  # the step's start's: constant over the step
+        q0 = gauge_linear(g, between[s, BT_VALUE], between[s, BT_VALUE + 1], between[s, BT_VALUE + 2], gauges) + off
+        m0 = gauge_linear(g, between[s, BT_RATE], between[s, BT_RATE + 1], between[s, BT_RATE + 2], gauges)
+        c0 = gauge_linear(g, between[s, BT_BEND], between[s, BT_BEND + 1], between[s, BT_BEND + 2], gauges)
+        q1 = gauge_linear(g, storey_work[s, 0], storey_work[s, 1], storey_work[s, 2], gauges) + off
+        listed = quintic_crests(q0, m0, c0, q1, gauge_linear(g, rx, ry, rt, gauges),
+                                gauge_linear(g, bx, by, bt, gauges), h, floor_ratio * gauge_floor(g, gauges), CREST_GAUGE,
+                                g, crests, n)  # fmt: skip
+        for row in range(n, listed):
+            crests[row, 3] = off
+        n = listed
+    return n
 
 
 def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) -> tuple[np.ndarray, np.ndarray]:
@@ -346,7 +381,7 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
     storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
         structure.storey_axes, structure.centre  # fmt: skip
     col_arm, n_dof = structure.column_arm, structure.mass.size
-    peak_col, peak_rot, peak_disp, peak_acc = peaks
+    peak_col, peak_rot, peak_disp, peak_acc = peaks.column, peaks.storey_rotation, peaks.displacement, peaks.acceleration
     n = 0
     for s in range(storey_top.size):
         rx, ry, rt = storey_deflection(v, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
@@ -385,6 +420,7 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
                                        crests, n)  # fmt: skip
                     lowest = min(lowest, peak_col[k, axis])
                 between[s, BT_LOWEST + axis] = lowest
+            n = _gauge_crests(s, h, between, storey_work, rx, ry, rt, bx, by, bt, floor_ratio, peaks.gauges, crests, n)
         for j in range(3):
             between[s, BT_VALUE + j] = storey_work[s, j]
         between[s, BT_RATE] = rx
@@ -393,6 +429,7 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
         between[s, BT_BEND] = bx
         between[s, BT_BEND + 1] = by
         between[s, BT_BEND + 2] = bt
+    keep_offsets(peaks.gauges)
     if smooth:
         for d in range(n_dof):
             n = quintic_crests(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h,

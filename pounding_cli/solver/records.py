@@ -126,6 +126,46 @@ class Work(NamedTuple):
     """(n_storeys, 3) storey deflections (Ã_x, Ã_y, Δθ) at the state just peaked, m, rad"""
 
 
+class Gauges(NamedTuple):
+    """Storey shears and column forces as linear gauges of the storey deflections, less their
+    members' plastic part (force_peaks.py; assembly/force_gauges.py builds them), listed storey
+    by storey, and their running peaks."""
+
+    storey: np.ndarray
+    """(n_g,) the storey of each gauge"""
+    weight: np.ndarray
+    """(n_g, 3) on the storey deflection (Ã_x, Ã_y, Δθ), N/m, N/m, N/rad (N·m/m, N·m/rad)"""
+    first: np.ndarray
+    """(n_storeys + 1,) each storey's first gauge"""
+    member: np.ndarray
+    """(n_g,) a column gauge's yielding member (rows of plastic and kh), −1: none"""
+    member_axis: np.ndarray
+    """(n_g,) the member's local axis whose k_h·p is subtracted"""
+    plastic_weight: np.ndarray
+    """(n_g, 3) a storey gauge's weights on its storey's plastic resultant, subtracted (1, or m)"""
+    storey_above: np.ndarray
+    """(n_storeys,) the storey on top of each in its building, −1 for the top one"""
+    top: np.ndarray
+    """(n_storeys,) the floor above each storey (Structure.storey_top)"""
+    centre: np.ndarray
+    """(n_floors + 1, 2) the floors' mass centres, m (Structure.centre)"""
+    kh: np.ndarray
+    """(n_members, 2) the members' hysteretic stiffness, N/m (Yielding.law.kh)"""
+    plastic: np.ndarray
+    """(n_members, 4) the members' plastic deflections, m (Yielding.plastic: the same array)"""
+    g: np.ndarray
+    """(n_dof + 3) the members' plastic correction on the floors, N, N·m (Yielding.g: the same array)"""
+    member_peak: np.ndarray
+    """(n_members, 6) the members' running peaks (Yielding.peak: the same array; |f_x|, |f_y| in 3, 4)"""
+    resultant: np.ndarray
+    """(n_storeys, 3) work: each storey's plastic resultant P_s at the state peaked, N, N, N·m"""
+    offset: np.ndarray
+    """(n_g,) each gauge's plastic part at the last exact state (constant over the exact step
+    from it, whatever a member's overshoot changes at its end), N (N·m)"""
+    peak: np.ndarray
+    """(n_g,) running max |q|, N (N·m)"""
+
+
 class Peaks(NamedTuple):
     """Running maxima over every step (and between exact states)."""
 
@@ -137,6 +177,8 @@ class Peaks(NamedTuple):
     """(n_dof,) |u|, m and rad"""
     acceleration: np.ndarray
     """(n_dof,) absolute |a|, m/s² and rad/s²"""
+    gauges: Gauges
+    """storey shears and column forces (force_peaks.py)"""
 
 
 class Output(NamedTuple):
@@ -154,6 +196,8 @@ class Output(NamedTuple):
     """(n_out, 7) J, columns cdm.ENERGY_NAMES"""
     contact: np.ndarray
     """(n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS"""
+    floor_contact: np.ndarray
+    """(n_out, n_dof) the contact forces on the floors, N and N·m (Contact.force)"""
 
 
 class Bodies(NamedTuple):

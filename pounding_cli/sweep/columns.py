@@ -7,7 +7,10 @@ A summary has one row per case and these columns, in this order (docs/sweep.md, 
   (``excitation.angle``): the value the case's model resolved to there;
 - ``impacts``, ``peak_impact_force_N``, ``energy_balance_error``;
 - per building B: ``peak_isd_x_m[B]``, ``peak_isd_y_m[B]``, ``peak_isd_theta_rad[B]``, the
-  largest peak interstorey deflection over its columns and storeys, per direction;
+  largest peak interstorey deflection over its columns and storeys, per direction; and
+  ``peak_base_shear_x_N[B]``, ``peak_base_shear_y_N[B]``, ``peak_base_torque_Nm[B]`` (building
+  axes, about the mass centre of its first floor), ``max_column_shear_N[B]`` (the largest peak
+  column shear over its columns, storeys and local axes): results/forces.py;
 - per building B with yielding members (in some case): ``max_ductility[B]``, the largest peak
   ductility over its inelastic columns, either local axis, and
   ``max_residual_deflection_m[B]``, the largest resultant residual deflection over them
@@ -70,12 +73,23 @@ TIME_COLUMNS = [
 ]
 
 
+FORCES = (("peak_base_shear_x_N", "N", "Peak base shear along the building's x axis"),
+          ("peak_base_shear_y_N", "N", "Peak base shear along the building's y axis"),
+          ("peak_base_torque_Nm", "N·m", "Peak base torque about the mass centre of the first floor"),
+          ("max_column_shear_N", "N", "Largest peak column shear over all columns, storeys and local axes"))  # fmt: skip
+"""Name, unit and meaning of a building's force columns (results/forces.py: signs and axes)."""
+
+
 def building_columns(building: str) -> list[Column]:
-    """The three largest-peak columns of one building."""
+    """The three largest-peak deflection columns and the force columns of one building."""
     return [
         Column(f"peak_isd_{suffix}[{building}]", "result", "float", unit,
                f"Largest peak interstorey deflection {meaning} over all columns and storeys of building {building}.")
         for suffix, unit, meaning in DIRECTIONS
+    ] + [
+        Column(f"{name}[{building}]", "result", "float", unit,
+               f"{meaning} of building {building} (NaN in a file written before pound stored forces).")
+        for name, unit, meaning in FORCES
     ]  # fmt: skip
 
 
@@ -147,6 +161,11 @@ def row_schema() -> dict[str, Any]:
         f"^peak_isd_{suffix}\\[[^/\\]]+/[^/\\]]+/[1-9][0-9]*\\]$": {**number, "minimum": 0, "description":
             f"Peak interstorey deflection {meaning} of [building/column/storey], {unit}."}
         for suffix, unit, meaning in DIRECTIONS
+    }  # fmt: skip
+    deflection |= {
+        f"^{name}\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":
+            f"{meaning} of the building named in brackets, {unit}."}
+        for name, unit, meaning in FORCES
     }  # fmt: skip
     yielding = {
         "^max_ductility\\[[^/\\]]+\\]$": {**number, "minimum": 0, "description":

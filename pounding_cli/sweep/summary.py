@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..atomic import atomic_path, hdf5_writer, write_text
+from .columns import FORCES
 from .store import COMPLETE, PENDING, OutputFolder
 
 SUMMARY_H5 = "summary.h5"
@@ -53,6 +54,7 @@ def case_results(path: Path) -> dict[str, Any]:
                 for c, column in enumerate(names):
                     for s in range(values.shape[1]):
                         out[f"peak_isd_{suffix}[{name}/{column}/{s + 1}]"] = float(values[c, s])
+            out |= force_results(name, group)
             if "yielding" in group:
                 kinds = [k.decode() if isinstance(k, bytes) else str(k) for k in group["yielding/members"]["kind"]]
                 columns = np.array([k == "column" for k in kinds], dtype=bool)
@@ -64,6 +66,16 @@ def case_results(path: Path) -> dict[str, Any]:
                 if isolators.any():
                     out[f"peak_isolator_displacement_m[{name}]"] = _nanmax(group["yielding/peak"][()][isolators, 2])
     return out
+
+
+def force_results(name: str, group: Any) -> dict[str, float]:
+    """Building `name`'s force columns (columns.FORCES) from its group of a case file; NaN in a
+    file written before pound stored forces."""
+    if "base_shear" not in group["peaks"]:
+        return {f"{column}[{name}]": math.nan for column, _, _ in FORCES}
+    base = group["peaks/base_shear"][()]  # STOREY_COMPONENTS: V_x, V_y, T, V_X, V_Y, T_O
+    values = (base[0], base[1], base[2], _nanmax(group["peaks/column_shear"][()]))
+    return {f"{column}[{name}]": float(v) for (column, _, _), v in zip(FORCES, values)}
 
 
 def _nanmax(values: np.ndarray) -> float:
