@@ -240,3 +240,31 @@ def test_the_plan_view_moves_a_struck_storey_as_the_solver_does(tmp_path) -> Non
         name = scene.system.buildings[body.crossing.struck].name
         report = storey_displacement_at(run, geometry, name, body.crossing.storey, body.crossing.xi, t)
         assert report == pytest.approx(out[x.size + 3 * k : x.size + 3 * k + 3], abs=1e-15)
+
+
+def test_the_report_flags_struck_columns_past_their_capacity(tmp_path) -> None:
+    """`pound report` lists each column struck between its floors once, with the largest of its
+    rows of /impacts/column_demand (recomputed here from the rows), and flags a ratio ≥ 1."""
+    import tomllib
+
+    from typer.testing import CliRunner
+
+    from pounding_cli.cli import app
+    from pounding_cli.report import summary
+
+    doc = tomllib.loads((ROOT / "inputs" / "mismatched_floors.toml").read_text())
+    doc["analysis"]["duration"] = 16.0
+    result = run_model(load_doc(doc), output=tmp_path / "m.h5")
+    rows = result.contact.column_demand
+    struck = summary(tmp_path / "m.h5")["impacts"]["struck_columns"]
+    assert sorted((c["building"], c["column"]) for c in struck) == sorted({(str(r["building"]), str(r["column"])) for r in rows})
+    for c in struck:
+        mine = rows[(rows["building"] == c["building"]) & (rows["column"] == c["column"])]
+        whole = max(abs(mine[f"shear_{e}_{a}"]).max() for e in ("bottom", "top") for a in "xy")
+        assert c["shear_N"] == whole and c["impacts"] == mine.size
+        if c["building"] == "tall":  # 150 kN given
+            assert c["ratio"] == pytest.approx(float(np.max(mine["ratio"])), rel=1e-15) and c["exceeds"] == (c["ratio"] >= 1)
+        else:
+            assert c["ratio"] is None and c["capacity_N"] is None
+    text = CliRunner().invoke(app, ["report", str(tmp_path / "m.h5")]).stdout
+    assert "Columns struck between floors" in text and "≥ 1 !" in text

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 from .document_model import _Output
+from .demand_document import StruckColumn, struck_columns
 from .force_document import ForceReport, force_report
 from .load import Run, open_run
 
@@ -272,6 +273,8 @@ class Impacts(_Output):
     """Every contact candidate pair."""
     events: list[ImpactEvent]
     """Every logged episode, in the order of the log."""
+    struck_columns: list[StruckColumn] = []
+    """Columns struck between their floors by a neighbour's slab, with their demand/capacity (empty without such impacts)."""
 
 
 class Record(_Output):
@@ -611,6 +614,7 @@ def _impacts(run: Run) -> Impacts:
         peak=peak,
         pairs=pairs,
         events=events,
+        struck_columns=struck_columns(c.column_demand),
     )
 
 

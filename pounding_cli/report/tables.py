@@ -205,13 +205,15 @@ def energy_table(doc: dict[str, Any]) -> TableSpec:
 
 def run_tables(doc: dict[str, Any]) -> list[TableSpec]:
     """Every table of a run's report, in order."""
-    from .force_tables import force_tables  # it builds on TableSpec
+    from .demand_document import demand_table  # it builds on TableSpec
+    from .force_tables import force_tables
 
     tables = [run_table(doc), buildings_table(doc), peaks_table(doc), *deflection_tables(doc), *force_tables(doc),
               *yielding_tables(doc)]  # fmt: skip
     impacts = impacts_table(doc)
     if impacts is not None:
         tables.append(impacts)
+    tables += demand_table(doc)
     tables.append(energy_table(doc))
     return tables
 
