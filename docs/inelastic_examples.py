@@ -33,14 +33,10 @@ SIGNED: dict[str, dict] = {}
 
 def save(fig, path: Path) -> None:
     """Write a figure, and keep its signature (docs/make_report_images.py) for SIGNATURES."""
-    import matplotlib.pyplot as plt
-
     spec = importlib.util.spec_from_file_location("make_report_images", Path(__file__).parent / "make_report_images.py")
     images = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(images)
-    fig.savefig(path, dpi=110)
-    SIGNED[path.name] = images.signature(fig)
-    plt.close(fig)
+    images.save_signed(fig, path, SIGNED)
 
 
 def loops_figure(runs: dict[str, object], building: str, member: str, path: Path) -> None:

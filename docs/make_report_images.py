@@ -174,6 +174,16 @@ def signature(fig) -> dict:
     return {"suptitle": suptitle, "legends": [legend(box) for box in fig.legends], "axes": axes}
 
 
+def save_signed(fig, path: Path, signed: dict) -> None:
+    """Write a figure (110 dpi) and keep what it shows (signature) in signed[path.name], for the
+    pages' image files (docs/inelastic_examples.py, docs/floors_example.py)."""
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=110)
+    signed[path.name] = signature(fig)
+    plt.close(fig)
+
+
 def differences(expected: dict, found: dict) -> list[str]:
     """What differs between two {image: content} documents, one line per difference."""
     out = []
