@@ -11,7 +11,8 @@ Checked against independent references:
 - bisection with contact on (the issue's test): at required × (1 + 1e-6) no impact, at
   required × (1 − 1e-3) an impact of the pair pound gap named, starting where the contact-free
   approach crosses that gap (within one sample) and before the named time of closest approach,
-  for a translation-only case and a torsional case. A run with contact equals the run without
+  for a translation-only case, a torsional case and a slab–storey case (the right building's
+  storeys 3.2 m: every pair strikes a storey). A run with contact equals the run without
   until the first touch: at required × (1 + 1e-6) the two runs' floor displacements agree to
   1e-9 m over the whole record (measured 5e-14 m translating, 2e-12 m twisting).
 """
@@ -80,6 +81,36 @@ def _paper(gap: float, torsion: bool, duration: float = 16.0) -> dict:
         doc["excitation"]["components"] = ["L"]
         right["floors"][0]["column_grid"].pop("sections")
     return doc
+
+
+def _mismatched(gap: float, duration: float = 16.0) -> dict:
+    """The translation-only case with the right building's storeys 3.2 m: no floors share a
+    level, every slab below the lower roof strikes a storey of the other (slab–storey pairs)."""
+    doc = _paper(gap, torsion=False, duration=duration)
+    doc["buildings"][1]["floors"][0]["height"] = 3.2
+    return doc
+
+
+def test_bisection_with_contact_confirms_a_slab_to_storey_threshold() -> None:
+    """The issue's bisection for slab–storey pairs (simulated since issue 23's slice 2): at
+    required × (1 + 1e-6) no impact, at required × (1 − 1e-3) an impact of the pair and storey
+    pound gap named, starting where the contact-free approach reaches that gap."""
+    result = required_gaps(load_doc(_mismatched(0.05)))
+    named = result.pairs[result.governing]
+    assert named.kind == "slab-storey" and all(p.kind == "slab-storey" for p in result.pairs)
+    threshold = max(p.required for p in result.pairs)
+    clear = execute(prepare(load_doc(_mismatched(threshold * (1 + 1e-6)))))
+    assert clear.diagnostics["storey_pairs"] == len(result.pairs) and clear.diagnostics["impacts"] == 0
+    touch_gap = threshold * (1 - 1e-3)
+    hit = execute(prepare(load_doc(_mismatched(touch_gap))))
+    events = hit.contact.events
+    assert hit.diagnostics["impacts"] >= 1
+    first = events[np.argmin(events["t_start"])]
+    assert (first["body_a"], first["body_b"], int(first["level"]), int(first["storey_b"])) == (
+        named.body_a, named.body_b, named.floor_a, named.storey_b)
+    crossing = result.time[np.argmax(result.approach[:, result.governing] >= touch_gap)]
+    assert abs(first["t_start"] - crossing) <= result.sample
+    assert first["t_start"] <= named.time <= first["t_start"] + 0.05
 
 
 def test_translation_only_needs_the_difference_of_the_floor_displacements() -> None:
