@@ -10,11 +10,13 @@ import sys
 
 def main() -> None:
     """Console-script entry point."""
-    from .interrupts import stop_from_the_start
+    from .interrupts import stop_from_the_start, stop_if_requested
 
     stop_from_the_start()
     try:
         from .cli import main as cli_main
+
+        stop_if_requested()  # one that a callback swallowed while loading
     except KeyboardInterrupt:  # SIGTERM or Ctrl-C while the command line is being loaded
         print("interrupted", file=sys.stderr)
         sys.exit(1)

@@ -61,6 +61,9 @@ class terminate_as_interrupt:
         global _requested, _depth, _written
         self.previous: dict[int, object] = {}
         if threading.current_thread() is threading.main_thread():
+            if _depth == 0 and _requested:  # a stop swallowed while pound loaded (stop_from_the_start)
+                _requested = False
+                raise Interrupted
             if _depth == 0:
                 _requested = _written = False
             _depth += 1
@@ -148,6 +151,10 @@ def stop_from_the_start() -> None:
     touch once this is in place, for tests/test_write_faults.py."""
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _interrupt)
+        # an Interrupted raised inside a callback while pound loads (numba's object cache
+        # notifies LLVM through ctypes) is swallowed there: not printed, and recorded, so that
+        # the command line stops once loaded (__main__: stop_if_requested)
+        sys.unraisablehook = _quiet_about_interrupts(sys.unraisablehook)
     marker = os.environ.get("POUND_TEST_STARTED")
     if marker:
         from pathlib import Path

@@ -240,6 +240,36 @@ def test_an_interrupt_swallowed_by_a_weakref_callback_is_not_printed_but_kept(mo
     assert sys.unraisablehook is hook
 
 
+def test_a_sigterm_swallowed_by_a_ctypes_callback_while_pound_loads_is_exit_1_without_a_traceback():
+    """A SIGTERM while pound loads can land inside a ctypes callback (numba's object cache
+    notifies LLVM so when it compiles a kernel): CPython swallows the Interrupted raised there
+    and prints "Exception ignored … Traceback". Seen in a fresh clone's CI
+    (test_write_faults.test_sigterm_at_every_instant). From stop_from_the_start on, such an
+    interrupt is not printed and is kept: the command stops "interrupted", exit 1, once loaded
+    or when the run's block begins."""
+    script = (
+        "import ctypes, os, signal, sys\n"
+        "from pounding_cli.interrupts import stop_from_the_start, terminate_as_interrupt\n"
+        "stop_from_the_start()\n"
+        "hit = []\n"
+        "@ctypes.CFUNCTYPE(None)\n"
+        "def callback():\n"
+        "    hit.append(1)\n"
+        "    os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    for _ in range(10**6): pass  # the handler runs here, inside the callback\n"
+        "ctypes.CFUNCTYPE(None)(ctypes.cast(callback, ctypes.c_void_p).value)()\n"
+        "print('carried on', flush=True)\n"
+        "try:\n"
+        "    with terminate_as_interrupt():\n"
+        "        print('not reached')\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', file=sys.stderr); sys.exit(1)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert "Traceback" not in proc.stderr and "Exception ignored" not in proc.stderr, proc.stderr
+    assert proc.stdout == "carried on\n" and proc.stderr == "interrupted\n" and proc.returncode == 1
+
+
 def test_an_interrupt_while_typer_builds_the_command_is_exit_1(monkeypatch, capsys) -> None:
     """A SIGTERM that lands while typer turns the commands' signatures into click commands
     (before any command runs, outside click's own handling) ended pound with a traceback (found

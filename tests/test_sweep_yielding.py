@@ -67,10 +67,15 @@ def test_columns_only_for_buildings_that_have_them(folder):
     sweep = open_sweep(folder)
     names = sweep.names("result")
     assert "max_ductility[isolated]" in names and "peak_isolator_displacement_m[isolated]" in names
-    assert not [n for n in names if n.endswith("[neighbour]") and not n.startswith("peak_isd_")]
-    # after the building's largest deflections, before the per-storey columns
+    # every building has its deflection and force columns; the yielding ones only where members yield
+    every = ("peak_isd_", "peak_base_shear_", "peak_base_torque_", "max_column_shear_")
+    assert not [n for n in names if n.endswith("[neighbour]") and not n.startswith(every)]
+    assert "max_ductility[neighbour]" not in names and "max_column_shear_N[neighbour]" in names
+    # after the building's largest deflections and forces, before the per-storey columns
     i = names.index("peak_isd_theta_rad[isolated]")
-    assert names[i + 1:i + 4] == ["max_ductility[isolated]", "max_residual_deflection_m[isolated]",
+    assert names[i + 1:i + 8] == ["peak_base_shear_x_N[isolated]", "peak_base_shear_y_N[isolated]",
+                                  "peak_base_torque_Nm[isolated]", "max_column_shear_N[isolated]",
+                                  "max_ductility[isolated]", "max_residual_deflection_m[isolated]",
                                   "peak_isolator_displacement_m[isolated]"]  # fmt: skip
     assert sweep.column("peak_isolator_displacement_m[isolated]")["units"] == "m"
     assert sweep.column("max_residual_deflection_m[isolated]")["units"] == "m"
