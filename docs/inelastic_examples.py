@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-import importlib.util
 import json
 from pathlib import Path
 
@@ -33,10 +32,9 @@ SIGNED: dict[str, dict] = {}
 
 def save(fig, path: Path) -> None:
     """Write a figure, and keep its signature (docs/make_report_images.py) for SIGNATURES."""
-    spec = importlib.util.spec_from_file_location("make_report_images", Path(__file__).parent / "make_report_images.py")
-    images = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(images)
-    images.save_signed(fig, path, SIGNED)
+    from make_report_images import save_signed  # docs/, the script's folder, is on sys.path
+
+    save_signed(fig, path, SIGNED)
 
 
 def loops_figure(runs: dict[str, object], building: str, member: str, path: Path) -> None:

@@ -43,11 +43,6 @@ class Body:
         return out
 
 
-def column_shape(xi: float) -> float:
-    """s(ξ) = 3ξ² − 2ξ³: the deflected shape of a column fixed at both ends."""
-    return 3.0 * xi * xi - 2.0 * xi**3
-
-
 @dataclass(frozen=True)
 class Motion:
     """The floors' motion at the stored samples: u, u̇, ü relative to the ground."""

@@ -35,7 +35,8 @@ import numpy as np
 
 from .approach import advance, push_out
 from .codes import cqc_correlation, estimates, fundamental_mode
-from .motion import Body, Motion, column_shape, motion_of
+from ..assembly.storey_contact import storey_shape
+from .motion import Body, Motion, motion_of
 from .rest import clearance
 
 SAMPLE = 0.002
@@ -131,7 +132,7 @@ def candidate_bodies(scene) -> list[tuple[dict[str, Any], Body, Body]]:  # type:
         top = int(system.floor_start[c.struck]) + c.storey - 1
         below = top - 1 if c.storey > 1 else -1
         centres = np.array([struck.mass_centre[max(c.storey - 2, 0)], struck.mass_centre[c.storey - 1]])
-        s = column_shape(c.xi)
+        s = storey_shape(c.xi)
         b = Body(struck.slabs[c.storey - 1], (below, top), centres, (1.0 - s, s))
         out.append((dict(body_a=slab_bld.name, floor_a=c.floor + 1, body_b=struck.name, floor_b=0, storey_b=c.storey,
                          kind="slab-storey", elevation=c.elevation, xi=c.xi, simulated=True), a, b))  # fmt: skip

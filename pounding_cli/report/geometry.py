@@ -133,7 +133,9 @@ def storey_displacement_at(run: Run, geometry: PlanGeometry, building: str, stor
     """(u_x, u_y, θ) at time t (s) of a storey's outline struck at ξ, referred to the mass centre
     of the floor above it (1-based storey): (1 − s)·T·q_below + s·q_above with
     s = 3ξ² − 2ξ³ (theory §10, "Floors at different heights"; the ground below storey 1)."""
-    s = 3 * xi * xi - 2 * xi**3
+    from ..assembly.storey_contact import storey_shape
+
+    s = storey_shape(xi)
     above = displacement_at(run, building, storey, t)
     if storey == 1:
         return s * above

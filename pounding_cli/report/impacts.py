@@ -25,7 +25,7 @@ MARGIN_S = 1.0
 def pair_label(pair: np.void) -> str:
     """"left 3 – right 3" (body and floor; an obstacle without floor; a storey struck between
     two floors as "right storey 2 at ξ 0.57")."""
-    storey = int(pair["storey_b"]) if "storey_b" in (pair.dtype.names or ()) else 0
+    storey = int(pair["storey_b"])  # read_hdf5 gives 0 for files written before the column existed
     if storey:
         b = f"{pair['body_b']} storey {storey} at ξ {float(pair['xi']):.2f}"
     else:
