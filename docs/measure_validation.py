@@ -1,8 +1,8 @@
 """Re-measure the figures quoted in docs/validation.md and docs/theory.md.
 
-    python docs/measure_validation.py [time-histories] [geometry] [impacts]
+    python docs/measure_validation.py [time-histories] [geometry] [impacts] [events]
 
-(all three sections without arguments; a few minutes, most of it the geometry kernel's
+(every section without arguments; a few minutes, most of it the geometry kernel's
 hypothesis examples and the Kobe example). Uses the test suite's independent references
 (tests/exact.py, shapely, the exact pounding solution of tests/test_pounding.py) on the same
 cases the tests run, and prints what the tests assert against their tolerances.
@@ -189,7 +189,8 @@ def impacts() -> None:
             measured, duration, _ = tpc._rebound(folder, {"restitution": e})
             expected = tpc._episode_time(restitution_damping_ratio(e), e)
             print(f"model file, floor against a wall, restitution = {e:g}: rebound {measured:.5f} "
-                  f"({measured / e - 1:+.1e}); episode {1e3 * duration:.4f} ms, closed form {1e3 * expected:.4f} ms")
+                  f"({measured / e - 1:+.1e}); episode {1e3 * duration:.5f} ms, closed form {1e3 * expected:.5f} ms "
+                  f"({(duration - expected) / tpc.DT:+.3f} steps)")
 
     for mu in ((0.0, 0.0), (0.8, 0.6)):
         structure, contact, velocity = tc._oblique(*mu)
@@ -293,7 +294,7 @@ def impacts() -> None:
         events = result.contact.events
         d = result.diagnostics
         print(f"face to face, {integrator} (Δt = {d['dt']:.3g} s): {len(events)} impacts, reference {len(starts)}; "
-              f"start times within {np.abs(events['t_start'] - starts).max():.2g} s; peak forces within "
+              f"start times within {np.abs(events['t_start'] - starts).max() / d['dt']:.2g}·Δt; peak forces within "
               f"{np.abs(events['peak_normal_force'] / peak_force - 1).max():.1e}")
         for name, column in (("left", 0), ("right", 1)):
             exact = np.abs(y[:, column]).max()
@@ -333,7 +334,30 @@ def impacts() -> None:
         print(f"{name}: energy balance error {', '.join(line)} of the input ({r.contact.impact_count} impacts)")
 
 
-SECTIONS = {"time-histories": time_histories, "geometry": geometry, "impacts": impacts}
+def event_times() -> None:
+    """docs/validation.md, "Impact model": the impact log's times located inside the step
+    (theory §10, "Events inside the step"), as tests/test_event_times.py checks them."""
+    import test_event_times as te
+    from pounding_cli.solver import contact as kernel
+
+    for dt in (2e-5, 1e-5):
+        structure, contact, velocity = te._face_to_face(None, gap=1e-3, v=0.5)
+        event = te.run(structure, contact, velocity, duration=0.012, dt=dt, stride=int(round(1e-4 / dt))).events[0]
+        omega = np.sqrt(1e9 * 4.0 / (structure.mass[0] / 2))
+        omega_cdm = 2.0 / dt * np.arcsin(omega * dt / 2)
+        print(f"face to face, Δt = {dt:g} s: t_start − 1 ms = {(event[kernel.EV_T_START] - 1e-3) / dt:+.1e}·Δt; "
+              f"t_end − (1 ms + π/ω_d) = {(event[kernel.EV_T_END] - 1e-3 - np.pi / omega_cdm) / dt:+.1e}·Δt, "
+              f"− (1 ms + π/ω) = {(event[kernel.EV_T_END] - 1e-3 - np.pi / omega) / dt:+.1e}·Δt")
+    dt = 2e-5
+    coarse, fine = te._pulled_along_a_wall(dt), te._pulled_along_a_wall(dt / 16)
+    print(f"pulled along a wall: t_slip − run at Δt/16 = {(coarse[0, kernel.EV_T_SLIP] - fine[0, kernel.EV_T_SLIP]) / dt:+.1e}·Δt, "
+          f"− 0.9 s = {(coarse[0, kernel.EV_T_SLIP] - 0.9) / dt:+.1e}·Δt")
+    coarse, fine = te._sliding_to_a_stop(dt), te._sliding_to_a_stop(dt / 32)
+    print(f"sliding to a stop: t_stick − run at Δt/32 = {(coarse[0, kernel.EV_T_STICK] - fine[0, kernel.EV_T_STICK]) / dt:+.1e}·Δt, "
+          f"− 0.05 s = {(coarse[0, kernel.EV_T_STICK] - 0.05) / dt:+.1e}·Δt")
+
+
+SECTIONS = {"time-histories": time_histories, "geometry": geometry, "impacts": impacts, "events": event_times}
 
 
 def main() -> None:

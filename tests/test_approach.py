@@ -87,7 +87,8 @@ def test_a_contact_ruled_out_does_not_happen_within_the_horizon(case):
 def test_the_approach_levels_change_nothing_but_the_cost(path, duration, saving, monkeypatch):
     """Histories within 10⁻⁶ of each component's peak: the runs differ only in where the CDM
     takes over and hands back (each hand-over second-order consistent, so the difference is
-    of order (ω·Δt)² ≈ 10⁻⁷ at the contact step); the same impacts, starting at the same step.
+    of order (ω·Δt)² ≈ 10⁻⁷ at the contact step); the same impacts, starting within 10⁻³ of a
+    contact step of each other (located inside the step, so they move with the trajectories).
     The levels take `saving` × fewer CDM steps: less in the corner scene, whose contact step
     follows its soft corner contacts (60 CDM steps per substep, so two levels whose finest
     step is 15 CDM steps, against 416 and five levels in the paper's buildings)."""
@@ -99,7 +100,8 @@ def test_the_approach_levels_change_nothing_but_the_cost(path, duration, saving,
     monkeypatch.setattr(integrate, "APPROACH_MIN_STEPS", 10**9)  # no level: the CDM for whole substeps
     without = pound.run_model(model)
     assert with_levels.contact.impact_count == without.contact.impact_count > 0
-    assert np.array_equal(with_levels.contact.events["t_start"], without.contact.events["t_start"])
+    starts = with_levels.contact.events["t_start"], without.contact.events["t_start"]
+    assert np.abs(starts[0] - starts[1]).max() <= 1e-3 * with_levels.diagnostics["dt"]
     for name, b in without.buildings.items():
         peak = np.abs(b.displacement).max(axis=(0, 1))
         difference = np.abs(with_levels.buildings[name].displacement - b.displacement).max(axis=(0, 1))

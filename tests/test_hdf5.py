@@ -173,3 +173,26 @@ def test_impact_log_of_an_older_file_reads_with_nan(tmp_path):
     instant = peak_instant(run, plan_geometry(run))
     assert instant.contacts[0].f_tangential is None and "F_T not logged" in instant.description
     np.testing.assert_allclose(instant.contacts[0].normal, [1.0, 0.0], atol=0.02)
+
+
+def test_friction_times_of_an_older_file_read_as_absent(tmp_path):
+    """A file written before the impact log located its friction switches (issue 28) reads back
+    with t_slip, t_stick NaN and slips 0 (the other columns unchanged), and the report says null."""
+    from pounding_cli.report import summary
+
+    path = tmp_path / "old.h5"
+    result = pound.run_model(EXAMPLE.with_name("paper_pounding.toml"), output=path)
+    assert result.contact.events["slips"].max() >= 1, "the example's impact slips"
+    new = ("t_slip", "t_stick", "slips")
+    with h5py.File(path, "r+") as f:
+        events = f["impacts/events"][()]
+        units = f["impacts/events"].attrs["units"]
+        del f["impacts/events"]
+        f.create_dataset("impacts/events", data=events[[n for n in events.dtype.names if n not in new]]).attrs[
+            "units"] = units
+    again = pound.read_hdf5(path).contact.events
+    assert np.isnan(again["t_slip"]).all() and np.isnan(again["t_stick"]).all() and (again["slips"] == 0).all()
+    kept = [n for n in again.dtype.names if n not in new]
+    assert repr(again[kept].tolist()) == repr(result.contact.events[kept].tolist())  # repr: NaN equals NaN
+    event = summary(path)["impacts"]["events"][0]
+    assert event["t_slip"] is None and event["t_stick"] is None and event["slips"] == 0

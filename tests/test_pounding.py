@@ -125,8 +125,10 @@ def _cached_reference(loaded, k_contact):
 @pytest.mark.slow
 @pytest.mark.parametrize("integrator", ["hybrid", "cdm"])
 def test_face_to_face_impacts_match_an_independent_solution(integrator):
-    """Impact times within two steps, peak impact forces and peak displacements within
-    0.5 % (the issue's tolerance; the CDM's error in the force is ~2e-4: 70 steps per
+    """Impact times within 1e-3 of a contact step (located inside the step, theory §10
+    "Events inside the step"; measured ≤ 4.6e-4·Δt hybrid, 5.7e-4·Δt CDM: the first impact's to
+    ≤ 5e-5·Δt, the later ones carry the integrators' error in the motion since; they were
+    within two steps before), peak impact forces and peak displacements within 0.5 % (the issue's tolerance; the CDM's error in the force is ~2e-4: 70 steps per
     impact), the same impact count. The reference samples every 10 µs (its peak-force
     sampling error is < 1e-4). Peak displacements, closer:
     - the CDM (every step at Δt = 18 µs) within 1e-4 (measured 3e-6);
@@ -147,7 +149,7 @@ def test_face_to_face_impacts_match_an_independent_solution(integrator):
     assert len(impacts) >= 3, "the scene must pound"
     assert len(events) == len(impacts)
     dt = result.diagnostics["dt"]
-    assert np.abs(events["t_start"] - impacts).max() <= 2 * dt
+    assert np.abs(events["t_start"] - impacts).max() <= 1e-3 * dt
     assert_allclose(events["peak_normal_force"], peak_force, rtol=5e-3)
     for name, column in (("left", 0), ("right", 1)):
         peak = result.buildings[name].peak_displacement[0, 0]

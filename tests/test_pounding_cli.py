@@ -142,11 +142,14 @@ def test_restitution_in_the_model_file_gives_that_rebound(tmp_path, e):
     switches on and off within a step, an impulse error of at most ~2ζ·ω·Δt = 8e-4 of the
     momentum (e = 0.5: ζ = 0.255, ω = √(k_N·L/m) = 1605 rad/s, Δt = 1 µs; measured 2e-4), and
     the soft columns pull on the floor during the 2 ms contact by 1e-4 of it. Duration: within
-    two steps (an episode starts and ends at the first step with, and without, overlap)."""
+    0.2 of a step, the touch and the parting located inside their steps (measured −0.061·Δt and
+    −0.087·Δt, 4e-5 of the episode: what the columns, which the closed form leaves out, and the
+    dashpot's switching within a step move it; before issue 28 the episode began and ended at
+    the first step with, and without, overlap, and the test allowed two steps)."""
     measured, duration, scene = _rebound(tmp_path, {"restitution": e})
     assert scene.contact.pair_zeta[0] == restitution_damping_ratio(e)
     assert abs(measured - e) < 1e-3 * e, measured
-    assert abs(duration - _episode_time(restitution_damping_ratio(e), e)) <= 2 * DT
+    assert abs(duration - _episode_time(restitution_damping_ratio(e), e)) <= 0.2 * DT
 
 
 def test_dashpot_coefficients_in_the_model_file(tmp_path):
@@ -161,4 +164,4 @@ def test_dashpot_coefficients_in_the_model_file(tmp_path):
     assert scene.contact.pair_cn[0] == c_n and scene.contact.pair_zeta[0] == 0.0
     assert scene.contact.pair_ct[0] == 1.0e6
     assert abs(measured - 0.5) < 1e-3 * 0.5, measured
-    assert abs(duration - _episode_time(zeta, 0.5)) <= 2 * DT
+    assert abs(duration - _episode_time(zeta, 0.5)) <= 0.2 * DT  # as with `restitution`

@@ -86,7 +86,7 @@ def _frame(xi: float):
 def comparison(folder, xi: float) -> dict:
     """pound's run and the frame's for the scene at ξ (folder: where pound's record goes):
     {"fe": the frame's Result, "pound": pound's RunResult, "errors": the largest relative
-    difference of impulse, peak force and each peak drift, "lag": the largest t_start − t0 and
+    difference of impulse, peak force and each peak drift, "lag": the largest |t_start − t0| and
     "duration": the largest |duration difference|, s}."""
     fe = _frame(xi)
     result = run_model(validate_model(_pound_model(folder, xi), folder / "model.toml"), output=None)
@@ -98,21 +98,21 @@ def comparison(folder, xi: float) -> dict:
     errors["impulse"] = max(abs(e["normal_impulse"] / p.impulse - 1) for e, p in pairs)
     errors["peak force"] = max(abs(e["peak_normal_force"] / p.peak - 1) for e, p in pairs)
     return {"fe": fe, "pound": result, "errors": {k: abs(v) for k, v in errors.items()},
-            "lag": max(e["t_start"] - p.t0 for e, p in pairs),
+            "lag": max(abs(e["t_start"] - p.t0) for e, p in pairs),
             "duration": max(abs(e["t_end"] - e["t_start"] - (p.t1 - p.t0)) for e, p in pairs)}  # fmt: skip
 
 
 def table(folder) -> str:
     """The comparison as a markdown table (docs/validation.md)."""
-    rows = ["| ξ | impacts | largest peak force (kN) | error: impulse | peak force | drift A₁ | drift A₂ | drift B₁ | start late by | duration off by |",
+    rows = ["| ξ | impacts | largest peak force (kN) | error: impulse | peak force | drift A₁ | drift A₂ | drift B₁ | start off by | duration off by |",
             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]  # fmt: skip
     for xi in (0.25, 0.5, 0.75):
         c = comparison(folder, xi)
         e = c["errors"]
         peak = max(p.peak for p in c["fe"].impacts)
         rows.append(f"| {xi} | {len(c['fe'].impacts)} | {peak / 1e3:.1f} | {e['impulse']:.1e} | {e['peak force']:.1e} | "
-                    f"{e['drift_A1']:.1e} | {e['drift_A2']:.1e} | {e['drift_B1']:.1e} | {c['lag'] * 1e6:.2f} µs | "
-                    f"{c['duration'] / STEP:.2f} steps |")  # fmt: skip
+                    f"{e['drift_A1']:.1e} | {e['drift_A2']:.1e} | {e['drift_B1']:.1e} | {c['lag'] / STEP:.1e} steps | "
+                    f"{c['duration'] / STEP:.1e} steps |")  # fmt: skip
     return "\n".join(rows)
 
 
@@ -124,9 +124,8 @@ def test_pound_meets_the_finite_element_frame(tmp_path, xi: float) -> None:
     events = result.contact.events
     assert len(impacts) >= 1 and events.size == len(impacts)
     assert set(events["storey_b"]) == {2} and np.allclose(events["xi"], xi, atol=1e-12)
-    for e, p in zip(events, impacts):
-        assert 0.0 <= e["t_start"] - p.t0 <= STEP  # the first step with overlap
-    assert c["duration"] <= 2 * STEP
+    assert c["lag"] <= 1e-3 * STEP  # located inside the contact step (issue 28)
+    assert c["duration"] <= 1e-3 * STEP
     for name, error in c["errors"].items():
         assert error <= 1e-6, name
 

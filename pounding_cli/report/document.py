@@ -227,6 +227,14 @@ class ImpactEvent(_Output):
     normal_y: float | None
     """Unit normal n from A into B at the peak normal force, global Y component, dimensionless;
     null in files written before the log kept it."""
+    t_slip: float | None = None
+    """Where the contact first slipped, s (t_start if it slipped from the touch), located inside
+    its step; null if it never slipped, or in files written before the log kept it."""
+    t_stick: float | None = None
+    """Where its last slip ended, s, located inside its step; null if it never slipped or slipped
+    to its end."""
+    slips: int = 0
+    """Its number of slip phases (0 in files written before the log counted them)."""
 
 
 class PairReport(_Output):
@@ -582,7 +590,7 @@ def _yielding(b: Any, column: str | None) -> YieldingReport | None:
 def _event(row: np.void) -> ImpactEvent:
     fields = {name: row[name] for name in ImpactEvent.model_fields}
     out = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in fields.items()}
-    for name in ("t_end", "tangential_force_at_peak", "normal_x", "normal_y"):
+    for name in ("t_end", "tangential_force_at_peak", "normal_x", "normal_y", "t_slip", "t_stick"):
         if not math.isfinite(out[name]):
             out[name] = None
     return ImpactEvent(**out)

@@ -91,7 +91,8 @@ def contact_result(contact: ContactArrays, response: Response, system: System | 
             row[kernel.EV_PEAK_FN], row[kernel.EV_IMPULSE], row[kernel.EV_PEAK_AREA], row[kernel.EV_PEAK_DEPTH],
             row[kernel.EV_X], row[kernel.EV_Y], bool(row[kernel.EV_SLID]), info.floor_b, info.elevation,
             row[kernel.EV_T_PEAK], int(row[kernel.EV_PAIR]), row[kernel.EV_FT_PEAK], row[kernel.EV_NX],
-            row[kernel.EV_NY], info.storey, info.xi,
+            row[kernel.EV_NY], info.storey, info.xi, row[kernel.EV_T_SLIP], row[kernel.EV_T_STICK],
+            int(row[kernel.EV_SLIPS]),
         )  # fmt: skip
     return ContactResult(
         pairs=pairs,

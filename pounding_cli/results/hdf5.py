@@ -30,7 +30,7 @@ from .result import (
 )
 from .column_demand import DEMAND_DTYPE, DEMAND_UNITS
 
-EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -"
+EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -, s, s, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
 
 
@@ -184,7 +184,10 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
         "(signed), normal_x, normal_y the unit normal n from A into B (global); t_end NaN when the contact "
         "lasted to the end; storey_b, xi: the storey of body B's building that body A's slab struck between "
         "two floors (floor_b is the floor above it) and where along its height, (z - z_below)/h (0 and NaN "
-        "for slab-slab and slab-obstacle contacts)"
+        "for slab-slab and slab-obstacle contacts); t_start, t_end where the outlines met and parted, "
+        "located inside the contact step; t_slip where the contact first slipped (t_start if from the touch), "
+        "t_stick where its last slip ended (NaN if it never slipped or slipped to the end), slips the number "
+        "of slip phases, the switches located inside their steps"
     )
     if c.column_demand.size:  # slab–storey impacts: what they put into the struck columns
         demand = g.create_dataset("column_demand", data=c.column_demand.astype(h5_dtype(DEMAND_DTYPE)),

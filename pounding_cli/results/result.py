@@ -128,6 +128,9 @@ EVENT_DTYPE = np.dtype(
         ("normal_y", np.float64),
         ("storey_b", np.int64),
         ("xi", np.float64),
+        ("t_slip", np.float64),
+        ("t_stick", np.float64),
+        ("slips", np.int64),
     ]
 )
 """One row per contact episode. level / floor_b: 1-based floors of body A's and body B's
@@ -136,8 +139,12 @@ step of the peak normal force (time t_peak): x, y the action point (global, m),
 tangential_force_at_peak the tangential force on B along t = ẑ × n (N, signed) and
 normal_x, normal_y the unit normal n from A into B (global). A slab striking a neighbour's
 storey between two floors: storey_b is that storey (1-based; floor_b the floor above it) and xi
-where along its height, (z − z_below)/h; otherwise 0 and NaN. Files written before a column
-existed read it back as NaN (0 for storey_b)."""
+where along its height, (z − z_below)/h; otherwise 0 and NaN. t_start and t_end are where the
+outlines met and parted, t_slip where the contact first slipped (t_start if from the touch),
+t_stick where its last slip ended (NaN: it never slipped, or slipped to its end), slips the
+number of its slip phases: each located inside its contact step (docs/theory.md, "Events
+inside the step"). Files written before a column existed read it back as NaN (0 for an
+integer)."""
 
 PAIR_DTYPE = np.dtype(
     [

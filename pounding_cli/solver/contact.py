@@ -85,7 +85,10 @@ from .contact_geometry import (
 # ST_FN1, ST_FN2: the normal force one and two steps back, N (0 before the episode)
 ST_ACTIVE, ST_FT, ST_SLIP, ST_EVENT, ST_FX, ST_FY, ST_NX, ST_NY, ST_DEEPEST, ST_REST = range(10)
 ST_FN1, ST_FN2 = ST_REST + 6, ST_REST + 7
-N_STATE = ST_REST + 8
+# ST_EXCESS: the trial |F_T| over μ_k·F_N, N, and ST_VT: B's tangential velocity on A at c, m/s,
+# at the last step (where a slip ends between two steps: _tangential_force)
+ST_EXCESS, ST_VT = ST_REST + 8, ST_REST + 9
+N_STATE = ST_REST + 10
 FRAME_VERTICES = RESULT_SIZE
 """Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
 # per-pair current values (also what is stored at the output interval)
@@ -99,7 +102,11 @@ NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
 # is checked against it, assembly/contact.py: observed_contact_omega)
 EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
 EV_FT_PEAK, EV_NX, EV_NY, EV_PEAK_LENGTH = range(11, 15)
-EV_COLUMNS = 15
+# EV_T_SLIP: where the contact first slipped (t_start if from the touch), EV_T_STICK: where its
+# last slip ended (NaN: never slipped, or slipping to the end), EV_SLIPS: how many slip phases;
+# these and t_start, t_end are located inside their steps (docs/theory.md, "Events inside the step")
+EV_T_SLIP, EV_T_STICK, EV_SLIPS = range(15, 18)
+EV_COLUMNS = 18
 
 
 @kernel(inline="always")
@@ -274,15 +281,15 @@ def _stick_since_touch(spring, f_n, mu_k, growth):
     μ_k·F_N·s^growth + |spring|·(1 − s) by now, stuck. Taking the spring from the step's end
     instead (stuck throughout, or slipping at μ_k·F_N) offsets it by up to k_T·v_T·Δt for the
     whole stick that follows: an error of first order in Δt, its size set by where the touch
-    fell in its step."""
+    fell in its step. Returns (the spring, N; s, or −1 where it did not stick again)."""
     if not growth > 1.0 + 1e-6 or spring == 0.0:
-        return spring
+        return spring, -1.0
     ratio = abs(spring) / (mu_k * f_n * growth) if mu_k > 0.0 else np.inf
     if ratio >= 1.0:  # still slipping (the slip law takes it from here)
-        return spring
+        return spring, -1.0
     share = ratio ** (1.0 / (growth - 1.0))
     held = mu_k * f_n * share**growth + abs(spring) * (1.0 - share)
-    return held if spring > 0.0 else -held
+    return (held if spring > 0.0 else -held), share
 
 
 @kernel(inline="always")
@@ -292,18 +299,18 @@ def _stick_shortfall(increment, mu_k, f_before, f_n, rise):
     k_T·v_T; counting the whole step's increment (k_T·v_T·Δt, N) from the last step's μ_k·F_N
     overstates it by −g(t_s) = min over the step of k_T·v_T·(t − t_{n−1}) − μ_k·(F_N(t) − F_N,n−1).
     F_N is taken quadratic over the step through the last step's and this step's values and
-    this step's rise per step, k_N·length·(closing speed)·Δt (N). Returns g(t_s) ≤ 0, N: second
+    this step's rise per step, k_N·length·(closing speed)·Δt (N). Returns (g(t_s) ≤ 0, N: second
     order in Δt, but with F_N's curvature, which at a corner's touch is F_N/τ², the error was
-    as large as first order's, its size set by where the touch fell."""
+    as large as first order's, its size set by where the touch fell; (t_n − t_s)/Δt)."""
     curvature = 2.0 * (f_before - f_n + rise)  # F̈_N·Δt²
     if not (curvature > 0.0 and mu_k > 0.0):
-        return 0.0
+        return 0.0, 0.0
     back = (rise - increment / mu_k) / curvature  # (t_n − t_s)/Δt, where μ_k·Ḟ_N = k_T·v_T
     if not 0.0 < back < 1.0:
-        return 0.0
+        return 0.0, 0.0
     s = 1.0 - back  # (t_s − t_{n−1})/Δt
     f_s = f_n - rise * back + 0.5 * curvature * back * back
-    return min(0.0, mu_k * (f_s - f_before) - increment * s)
+    return min(0.0, mu_k * (f_s - f_before) - increment * s), back
 
 
 @kernel(inline="always")
@@ -385,8 +392,9 @@ def _pair_frame(p, u, bodies, law, clip):
 
 @phase
 def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
-    """Pair p no longer touches: close its episode (if one was open), with what the midpoint
-    rule missed of its parting (_add_parting, without a dashpot), and reset its state."""
+    """Pair p no longer touches: close its episode (if one was open) where the outlines parted
+    within the step (share_since_crossing), with what the midpoint rule missed of its parting
+    (_add_parting, without a dashpot), and reset its state."""
     state, now, events, law = contact.state, contact.now, contact.events, contact.law
     if not state[p, ST_ACTIVE] > 0:
         return
@@ -394,14 +402,13 @@ def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
     b = law.b[p]
     fa = contact.bodies.floor[a]
     fb = contact.bodies.floor[b]
+    g_now, g_before = gaps_along_step(a, b, dt, u, v_half, contact.bodies, contact.clip.poly_a, contact.clip.poly_b)
     if _undamped(law.c_n[p], law.zeta[p]):  # (with a dashpot the force ends where its pull cancels)
-        g_now, g_before = gaps_along_step(a, b, dt, u, v_half, contact.bodies, contact.clip.poly_a,
-                                          contact.clip.poly_b)  # fmt: skip
         _add_parting(p, g_now - g_before, law.k_n[p], law.mu_s[p], law.mu_k[p], fa, fb, gax, gay, gbx, gby, dt,
                      state, now, events, contact.force)  # fmt: skip
     e = int(state[p, ST_EVENT])
     if e < events.shape[0]:
-        events[e, EV_T_END] = t_now
+        events[e, EV_T_END] = t_now - share_since_crossing(g_now, g_before) * dt
     state[p, ST_ACTIVE] = 0.0
     state[p, ST_FT] = 0.0
     state[p, ST_SLIP] = 0.0
@@ -434,50 +441,69 @@ def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
 
 
 @phase
-def _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact):
+def _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact):
     """Pair p's friction: the incremental spring F_T − k_T·Δu_T (from where stick began at an
-    episode's first step, _stick_since_touch), its dashpot, and Coulomb's stick/slip with the
-    switches placed inside the step (_stick_shortfall, _kinetic_shortfall). Returns (the
-    spring's new force, the total tangential force on B along t, slipping), N."""
+    episode's first step, a share `share` of the step ago: _stick_since_touch), its dashpot,
+    and Coulomb's stick/slip with the switches placed inside the step (_stick_shortfall,
+    _kinetic_shortfall). Returns (the spring's new force, the total tangential force on B along
+    t, N; slipping; where in the step the last switch fell, as (t_n − t_switch)/Δt, −1 for none:
+    the impact log's friction times, _log_friction)."""
     law, state, now, frame = contact.law, contact.state, contact.now, contact.clip.frame
     k_n, mu_s, mu_k = law.k_n[p], law.mu_s[p], law.mu_k[p]
     area = frame[AREA]
+    back = -1.0
     spring = state[p, ST_FT] - law.k_t[p] * slip_t
     if state[p, ST_ACTIVE] == 0 and f_n > 0.0 and area > 0.0:  # where stick began (_stick_since_touch)
-        spring = _stick_since_touch(spring, f_n, mu_k, state[p, ST_DEEPEST] * frame[LENGTH] / area)
+        spring, stuck = _stick_since_touch(spring, f_n, mu_k, state[p, ST_DEEPEST] * frame[LENGTH] / area)
+        if stuck >= 0.0:  # slipped from the touch and stuck again a share `stuck` of the time since
+            back = (1.0 - stuck) * share
     trial = spring - law.c_t[p] * v_t
     slipping = state[p, ST_SLIP] > 0
     if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
-        held = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k, now[p, NOW_FN], f_n,
-                                -k_n * frame[LENGTH] * v_n * dt)  # fmt: skip
+        held, held_back = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k, now[p, NOW_FN], f_n,
+                                           -k_n * frame[LENGTH] * v_n * dt)  # fmt: skip
         if held < 0.0 and abs(trial) + held <= mu_k * f_n:
             sign = 1.0 if trial > 0 else -1.0
             spring += sign * held
             trial += sign * held
             slipping = False
+            back = held_back
     limit = mu_k * f_n if slipping else mu_s * f_n
+    excess = abs(trial) - mu_k * f_n
     if abs(trial) > limit:
         sign = 1.0 if trial > 0 else -1.0
         spring = sign * mu_k * f_n
         if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
-            trial = spring + sign * _kinetic_shortfall(abs(now[p, NOW_FT]) - mu_s * now[p, NOW_FN],
-                                                       abs(trial) - limit, now[p, NOW_FN], f_n, mu_s,
-                                                       mu_k)  # fmt: skip
+            before = abs(now[p, NOW_FT]) - mu_s * now[p, NOW_FN]
+            after = abs(trial) - limit
+            trial = spring + sign * _kinetic_shortfall(before, after, now[p, NOW_FN], f_n, mu_s, mu_k)
+            back = crossing_share(after, before) if before < 0.0 else 1.0
         else:
             trial = spring
         slipping = True
     elif slipping and abs(trial) <= mu_k * f_n:
-        slipping = False
-    return spring, trial, slipping
+        slipping = False  # it stuck where the slip velocity vanished, else where the trial fell within μ_k·F_N
+        if v_t * state[p, ST_VT] < 0.0:
+            back = crossing_share(v_t, state[p, ST_VT])
+        elif state[p, ST_EXCESS] > 0.0:
+            back = crossing_share(excess, state[p, ST_EXCESS])
+        else:
+            back = 0.0
+    state[p, ST_EXCESS] = excess
+    state[p, ST_VT] = v_t
+    return spring, trial, slipping, back
 
 
 @phase
-def _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact):
-    """Pair p's row of the impact log: opened at an episode's first step; its impulse, its
-    peak normal force (the crest through the last three steps, crest) with the action point,
-    friction and normal there, and its largest area, depth and contact line."""
+def _log_impact(p, t_now, dt, share, f_n, f_t, missed, was_slipping, slipping, switched, contact):
+    """Pair p's row of the impact log: opened at an episode's first step, where the outlines
+    met a share `share` of the step ago (share_since_crossing); its impulse, its peak normal
+    force (the crest through the last three steps, crest) with the action point, friction and
+    normal there, its largest area, depth and contact line, and where it slipped and stuck
+    (`switched`: (t_n − t_switch)/Δt of the last switch in the step, −1 for none)."""
     state, events, n_events, frame = contact.state, contact.events, contact.n_events, contact.clip.frame
-    if state[p, ST_ACTIVE] == 0:
+    opened = state[p, ST_ACTIVE] == 0
+    if opened:
         state[p, ST_ACTIVE] = 1.0
         state[p, ST_FN1] = 0.0
         state[p, ST_FN2] = 0.0
@@ -487,12 +513,26 @@ def _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact):
             for k in range(EV_COLUMNS):
                 events[row, k] = 0.0
             events[row, EV_PAIR] = p
-            events[row, EV_T_START] = t_now
+            events[row, EV_T_START] = max(0.0, t_now - share * dt)
             events[row, EV_T_END] = np.nan
             events[row, EV_PEAK_FN] = -1.0  # below any F_N: the first step sets the peak's values
+            events[row, EV_T_SLIP] = np.nan
+            events[row, EV_T_STICK] = np.nan
         n_events[0] += 1
     e = int(state[p, ST_EVENT])
     if e < events.shape[0]:
+        t_switch = t_now - switched * dt if switched >= 0.0 else t_now
+        if opened and (slipping or switched >= 0.0):  # it slipped from the touch (and may have stuck since)
+            events[e, EV_T_SLIP] = events[e, EV_T_START]
+            events[e, EV_SLIPS] = 1.0
+            events[e, EV_SLID] = 1.0
+        elif slipping and not was_slipping:  # stick gave way
+            if np.isnan(events[e, EV_T_SLIP]):
+                events[e, EV_T_SLIP] = t_switch
+            events[e, EV_SLIPS] += 1.0
+            events[e, EV_T_STICK] = np.nan
+        if not slipping and (was_slipping or opened and switched >= 0.0):  # it stuck again
+            events[e, EV_T_STICK] = t_switch
         events[e, EV_IMPULSE] += (f_n + missed) * dt
         if f_n > events[e, EV_PEAK_FN]:
             events[e, EV_PEAK_FN] = f_n
@@ -595,7 +635,8 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
             missed, arm = _shallow_impulse(tmp, n_profile, law.k_n[p], closed, closed_turn, state[p, ST_ACTIVE] == 0,
                                            rest)  # fmt: skip
         # tangential force: incremental spring, dashpot, Coulomb stick/slip
-        spring, f_t, slipping = _tangential_force(p, f_n, slip_t, v_t, v_n, dt, contact)
+        was_slipping = state[p, ST_SLIP] > 0
+        spring, f_t, slipping, switched = _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact)
         state[p, ST_FT] = spring
         state[p, ST_SLIP] = 1.0 if slipping else 0.0
         # forces on B (+) and A (−) at the action point
@@ -630,7 +671,7 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         now[p, NOW_X] = cx
         now[p, NOW_Y] = cy
         now[p, NOW_DEPTH] = frame[DEPTH]
-        _log_impact(p, t_now, dt, f_n, f_t, missed, slipping, contact)
+        _log_impact(p, t_now, dt, share, f_n, f_t, missed, was_slipping, slipping, switched, contact)
     broad.n_live[0] = in_contact
     return in_contact
 
@@ -766,6 +807,13 @@ def gaps_along_step(a, b, dt, u, v_half, bodies, poly_a, poly_b):
     now = _outline_gap(a, b, u, v_half, 0.0, bodies, poly_a, poly_b)
     before = _outline_gap(a, b, u, v_half, dt, bodies, poly_a, poly_b)
     return now, before
+
+
+@kernel(inline="always")
+def crossing_share(now, before):
+    """(t_n − t*)/Δt: where a quantity taken linear over the last step, `before` at its start
+    and `now` at its end (of opposite signs), crosses zero."""
+    return now / (now - before)
 
 
 @kernel(inline="always")
