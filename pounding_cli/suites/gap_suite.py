@@ -88,7 +88,7 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
         outcomes: dict[str, Any] = {}
         with _executor(jobs, scheduler, scheduler_file, client) as executor, ThreadPoolExecutor(1) as thread:
             # the suite is resolved (the built-in set loaded, records read) while the workers start
-            resolving = thread.submit(resolve_suite, suite, scene, folder.root / "records")
+            resolving = thread.submit(resolve_suite, suite, scene)
             for _ in executor.run([(k, _warm_up, ()) for k in range(getattr(executor, "jobs", 0))]):
                 pass
             resolved = resolving.result()

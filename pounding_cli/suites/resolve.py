@@ -1,7 +1,7 @@
 """A suite made concrete for one model: every case (record × orientation), its record
 definition (a table with absolute component paths) and its scale factor.
 
-    suite = resolve_suite("far-field", scene, folder / "records")
+    suite = resolve_suite("far-field", scene)
     suite.cases[0].label, suite.cases[0].factor
 
 A built-in name ("far-field", "near-field") is the FEMA P695 set normalised by P695
@@ -53,9 +53,9 @@ class Suite:
                 "records": len({c.record for c in self.cases}), "cases": len(self.cases)}  # fmt: skip
 
 
-def resolve_suite(spec: str | Path, scene: Any, records_folder: Path) -> Suite:
+def resolve_suite(spec: str | Path, scene: Any, records_folder: Path | None = None) -> Suite:
     """The suite named by `spec` for the prepared `scene` (its buildings give T1); built-in
-    records are written under `records_folder`."""
+    records are written under `records_folder` (default: pound's cache, suites.builtin)."""
     if str(spec) in BUILTIN:
         file = SuiteFile(builtin=str(spec), scaling=Scaling(method="p695"))
         return _resolve(str(spec), None, file, scene, records_folder)
@@ -66,7 +66,7 @@ def resolve_suite(spec: str | Path, scene: Any, records_folder: Path) -> Suite:
     return _resolve(str(path), path, load_suite_file(path), scene, records_folder)
 
 
-def _resolve(name: str, source: Path | None, file: SuiteFile, scene: Any, records_folder: Path) -> Suite:
+def _resolve(name: str, source: Path | None, file: SuiteFile, scene: Any, records_folder: Path | None) -> Suite:
     where = source if source is not None else "--suite " + name
     entries = _entries(file, source, records_folder)
     period = _period(file.scaling, scene, where)
@@ -88,14 +88,14 @@ def _resolve(name: str, source: Path | None, file: SuiteFile, scene: Any, record
     return Suite(name, source, file, period, cases)
 
 
-def _entries(file: SuiteFile, source: Path | None, records_folder: Path) -> list[tuple[Any, ...]]:
+def _entries(file: SuiteFile, source: Path | None, records_folder: Path | None) -> list[tuple[Any, ...]]:
     """(name, Record, RecordOrigin, scale, normalisation, field) of every record."""
     if file.builtin is not None:
         from .builtin import builtin_records
 
         out = []
         for r in builtin_records(file.builtin, records_folder):
-            origin = RecordOrigin(records_folder / file.builtin / f"{r.name}.record", "")
+            origin = RecordOrigin(Path(r.definition["L"]["file"]).parent / f"{r.name}.record", "")
             out.append((r.name, Record.model_validate(r.definition), origin, 1.0, r.normalisation, r.name))
         return out
     assert source is not None
