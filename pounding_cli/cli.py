@@ -354,6 +354,26 @@ def _print_suite(result: Any) -> None:
         err.print(f"{c['case']}: {c['status']}", markup=False)
 
 
+def _suite_report(path: Path, json_: bool, plots: Path | None, fmt: str, given: dict[str, bool], html: Path | None) -> None:
+    """pound report on a `pound gap --suite` result: its table, --json, the fragility plot (--plots)."""
+    from .report.suite_document import suite_document, suite_tables, write_fragility
+    from .report.tables import rich_table
+
+    refused = [name for name, on in given.items() if on] + (["--html"] if html is not None else [])
+    if refused:
+        raise InputError(f"{refused[0]} does not apply to the result of pound gap --suite (its report is a table, "
+                         "--json and --plots)", field=refused[0])  # fmt: skip
+    doc = suite_document(path)
+    written = write_fragility(path, plots, fmt) if plots is not None else None
+    if written is not None:
+        err.print(f"wrote {written}", markup=False)
+    if json_:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return
+    for spec in suite_tables(doc):
+        out.print(rich_table(spec), soft_wrap=False)
+
+
 def _print_gaps(result: Any) -> None:
     """pound gap's table: per pair the gap at rest, the required separation, when, the margin
     and the code-style estimates with their ratios to it (mm)."""
@@ -695,7 +715,7 @@ def bench(
     epilog=_examples("pound report out.h5 --plots plots/ --html report.html", "pound report angle_gap/ --plots plots/ --x excitation.angle"),
 )
 def report(
-    paths: Annotated[list[Path], typer.Argument(metavar="FILE|DIR", help="Result files (.h5), or one sweep folder.", show_default=False)],
+    paths: Annotated[list[Path], typer.Argument(metavar="FILE|DIR", help="Result files (.h5), or one sweep folder, or the result of pound gap --suite (its gap-suite.h5 or folder).", show_default=False)],
     json_: JsonOpt = False,
     column: Annotated[
         str | None, typer.Option("--column", metavar="COLUMN", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
@@ -736,6 +756,12 @@ def report(
              "--stride": stride is not None, "--max-frames": max_frames != 120, "--fps": fps != 12,
              "--x": x is not None, "--y": bool(y), "--case": bool(case), "--study": bool(study)}  # fmt: skip
     with reported():
+        from .report.suite_document import suite_file
+
+        suite_result = suite_file(paths[0]) if len(paths) == 1 else None
+        if suite_result is not None:  # pound gap --suite's result: its statistics and fragility plot
+            _suite_report(suite_result, json_, plots, format, given, html)
+            return
         sweep_folder = next((p for p in paths if p.is_dir()), None)
         check_options(sweep_folder is not None, given)
         _refuse_reading_what_is_written(paths, [html, animate])

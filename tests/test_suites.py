@@ -163,6 +163,14 @@ def test_cli_suite_json_and_plot(tmp_path: Path) -> None:
     doc = json.loads(result.stdout)
     assert len(doc["cases"]) == 4 and doc["pairs"][0]["at"][0]["gap"] == 0.02
     assert (tmp_path / "f.png").stat().st_size > 1000
+    with h5py.File(tmp_path / "o" / "gap-suite.h5") as f:  # the stored curve is the count of the stored values
+        required, gaps = f["gap_suite/required"][()], f["gap_suite/fragility/gap"][()]
+        assert np.array_equal(f["gap_suite/fragility/empirical"][()][:, 1],
+                              [(required[:, 1] > g).mean() for g in gaps])  # fmt: skip
+    report = runner.invoke(app, ["report", str(tmp_path / "o"), "--json", "--plots", str(tmp_path / "plots")])
+    assert report.exit_code == 0, report.output
+    assert json.loads(report.stdout)["pairs"][1]["required_median"] == doc["pairs"][1]["required"]["median"]
+    assert (tmp_path / "plots" / "fragility.png").is_file()
 
 
 def _bad(tmp_path: Path, *args: str) -> str:
