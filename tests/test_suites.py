@@ -185,8 +185,9 @@ def test_a_missing_record_names_the_suite_file_and_entry(tmp_path: Path) -> None
     assert f"{suite}: records[0].record: no record definition file" in _bad(tmp_path, "--suite", str(suite))
     record = _record(0, 10)
     record["L"]["file"] = "missing.mseed"
-    suite = _suite(tmp_path, records=[{"name": "gone", "record": record}], scaling={"method": "pga", "target_pga": 0.2})
-    assert f"{suite}: records[0].record.L.file" in _bad(tmp_path, "--suite", str(suite))
+    for scaling in ({"method": "pga", "target_pga": 0.2}, None):  # read for its scale, or not
+        suite = _suite(tmp_path, records=[{"name": "gone", "record": record}], scaling=scaling)
+        assert f"{suite}: records[0].record.L.file" in _bad(tmp_path, "--suite", str(suite))
 
 
 def test_sa_at_a_period_outside_the_spectrum(tmp_path: Path) -> None:
@@ -271,3 +272,16 @@ def test_sweep_with_a_suite(tmp_path: Path) -> None:
         assert float(row["median"]) == pytest.approx(np.exp(np.log(values).mean()), rel=1e-12)
         assert float(row["beta"]) == pytest.approx(np.log(values).std(), rel=1e-12)
         assert float(row["p84"]) == pytest.approx(np.exp(np.log(values).mean() + np.log(values).std()), rel=1e-12)
+
+
+def test_gap_suite_on_dask_gives_the_same_results(tmp_path: Path) -> None:
+    """The same suite on a Dask cluster (threads) and on local processes: the same values."""
+    distributed = pytest.importorskip("distributed")
+    from pounding_cli.suites.gap_suite import gap_suite
+
+    suite = _suite(tmp_path)
+    local = gap_suite(MODEL, suite, tmp_path / "local", jobs=1)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            remote = gap_suite(MODEL, suite, tmp_path / "dask", client=client)
+    assert not remote.failed and np.array_equal(remote.values["required"], local.values["required"])

@@ -80,6 +80,7 @@ def _resolve(name: str, source: Path | None, file: SuiteFile, scene: Any, record
             m = method_factor(scaling.method, motion.acceleration, motion.dt, period=period,
                               target=scaling.target_pga if scaling.method == "pga" else scaling.target_sa)  # fmt: skip
         else:
+            _check_files(record, origin)
             m = method_factor(scaling.method, {}, 0.0, normalisation=normalisation)
         definition = _absolute(record, origin)
         for orientation in ORIENTATIONS[file.orientations]:
@@ -129,6 +130,13 @@ def _period(scaling: Scaling, scene: Any, where: object) -> float | None:
         raise InputError(f"no building {scaling.period!r} in the model {scene.loaded.source}; its buildings: "
                          f"{', '.join(by_name)} (or give the period in s)", file=where, field="scaling.period")  # fmt: skip
     return float(by_name[scaling.period].modes.periods[0])
+
+
+def _check_files(record: Record, origin: RecordOrigin) -> None:
+    """InputError naming the field of a component file that does not exist (before any run)."""
+    for name, component in record.components().items():
+        if not (origin.folder / component.file).is_file():
+            raise origin.error(f"{name}.file", f"no such file {str(origin.folder / component.file)!r}")
 
 
 def _absolute(record: Record, origin: RecordOrigin) -> dict[str, Any]:
