@@ -303,10 +303,6 @@ def _gap_suite(model: Path, suite: str, output: Path | None, json_: bool, plot: 
     with reported():
         from .suites.gap_suite import gap_suite
 
-        if at:
-            for g in at:
-                if not g >= 0:
-                    raise InputError(f"expected a gap ≥ 0 in m, got {g:g}", field="--at")
         done = lambda k, n: err.print(f"case {k} of {n} done", markup=False) if sys.stderr.isatty() else None  # noqa: E731
         result = gap_suite(model, suite, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file, at=at,
                            force=force, on_progress=done)  # fmt: skip

@@ -245,6 +245,8 @@ def test_builtin_far_field_is_the_packages(tmp_path: Path) -> None:
             trace = read(r.definition[name]["file"])[0]
             gm = data.ground_motions.loc[(rid, comp)]
             assert np.array_equal(trace.data, gm["RecordedAcceleration"]) and trace.stats.delta == gm["DT"]
+    near = builtin_records("near-field", tmp_path)
+    assert len(near) == 28 and len({r.name for r in near}) == 28  # the pulse and no-pulse halves together
 
 
 def test_sweep_with_a_suite(tmp_path: Path) -> None:

@@ -4,7 +4,6 @@ fragility plot (empirical and lognormal fit, suites.plot)."""
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -79,4 +78,4 @@ def _plain(value: Any) -> Any:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-__all__ = ["suite_document", "suite_file", "suite_tables", "write_fragility", "json"]
+__all__ = ["suite_document", "suite_file", "suite_tables", "write_fragility"]
