@@ -65,7 +65,6 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
     """Run every case of `suite` for `model` into `output` (default: <model>-<suite>/ in the
     current folder) and return the statistics (module docstring). `at`: gaps (m, ≥ 0) at
     which the probability of pounding is also given."""
-    from ..api import prepare
     from ..model import load_model, read_document
     from ..sweep.run import _executor
     from ..sweep.store import OutputFolder
@@ -76,22 +75,22 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
         if not (math.isfinite(g) and g >= 0):
             raise InputError(f"expected a gap ≥ 0 in m, got {g:g}", field="--at")
     model = Path(model)
-    scene = prepare(load_model(model))
+    loaded = load_model(model)  # a bad model is refused before anything starts
     base = read_document(model)
     folder = OutputFolder(Path(output) if output is not None else default_output(model, suite))
     if scheduler is not None or scheduler_file is not None or client is not None:
         model, folder = model.absolute(), OutputFolder(folder.root.absolute())
     folder.check_owner(force)
-    folder.prepare()
-    with folder.locked():
-        folder.remove_stale_temporaries()
-        outcomes: dict[str, Any] = {}
-        with _executor(jobs, scheduler, scheduler_file, client) as executor, ThreadPoolExecutor(1) as thread:
-            # the suite is resolved (the built-in set loaded, records read) while the workers start
-            resolving = thread.submit(resolve_suite, suite, scene)
+    outcomes: dict[str, Any] = {}
+    with _executor(jobs, scheduler, scheduler_file, client) as executor:
+        with ThreadPoolExecutor(1) as thread:  # the model prepared and the suite resolved while the workers start
+            preparing = thread.submit(_prepared, loaded, suite)
             for _ in executor.run([(k, _warm_up, ()) for k in range(getattr(executor, "jobs", 0))]):
                 pass
-            resolved = resolving.result()
+            scene, resolved = preparing.result()
+        folder.prepare()  # nothing is written before every input is checked
+        with folder.locked():
+            folder.remove_stale_temporaries()
             tasks = [(c.label, _task_function(), (_case_document(base, c), str(model), str(folder.case_file(c.label)),
                       str(folder.failure_file(c.label)))) for c in resolved.cases]  # fmt: skip
             for done, (label, ok, value) in enumerate(executor.run(tasks), start=1):
@@ -99,12 +98,20 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
                                                     "elapsed_s": math.nan}  # fmt: skip
                 if on_progress is not None:
                     on_progress(done, len(tasks))
-        result = statistics(folder.root, resolved, outcomes, at)
-        result.wall_time_s = time.perf_counter() - t0
-        from .hdf5 import write_gap_suite
+            result = statistics(folder.root, resolved, outcomes, at)
+            result.wall_time_s = time.perf_counter() - t0
+            from .hdf5 import write_gap_suite
 
-        write_gap_suite(result, folder.root / RESULT, scene)
+            write_gap_suite(result, folder.root / RESULT, scene)
     return result
+
+
+def _prepared(loaded: Any, suite: str | Path) -> tuple[Any, Suite]:
+    """The base model's scene (assembled, its record read) and the suite resolved for it."""
+    from ..api import prepare
+
+    scene = prepare(loaded)
+    return scene, resolve_suite(suite, scene)
 
 
 def default_output(model: Path, suite: str | Path) -> Path:
