@@ -95,7 +95,7 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
                       str(folder.failure_file(c.label)))) for c in resolved.cases]  # fmt: skip
             for done, (label, ok, value) in enumerate(executor.run(tasks), start=1):
                 outcomes[label] = value if ok else {"status": f"failed: {value}", "pairs": [], "reused": False,
-                                                    "elapsed_s": math.nan}  # fmt: skip
+                                                    "elapsed_s": None}  # fmt: skip
                 if on_progress is not None:
                     on_progress(done, len(tasks))
             result = statistics(folder.root, resolved, outcomes, at)
