@@ -198,6 +198,10 @@ def test_sa_at_a_period_outside_the_spectrum(tmp_path: Path) -> None:
 
 
 def test_negative_gap_and_unknown_suite(tmp_path: Path) -> None:
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("mine")
+    result = runner.invoke(app, ["gap", str(MODEL), "--suite", "far-field", "-o", str(tmp_path / "mine")])
+    assert result.exit_code == 2 and "holds files that pound did not write (notes.txt)" in result.stderr
     assert "--at: expected a gap ≥ 0 in m, got -0.01" in _bad(tmp_path, "--suite", "far-field", "--at", "-0.01")
     assert "no built-in suite 'far-away'" in _bad(tmp_path, "--suite", "far-away")
 

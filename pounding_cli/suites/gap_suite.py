@@ -80,7 +80,7 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
     folder = OutputFolder(Path(output) if output is not None else default_output(model, suite))
     if scheduler is not None or scheduler_file is not None or client is not None:
         model, folder = model.absolute(), OutputFolder(folder.root.absolute())
-    folder.check_owner(force)
+    _check_owner(folder.root, force)
     outcomes: dict[str, Any] = {}
     with _executor(jobs, scheduler, scheduler_file, client) as executor:
         with ThreadPoolExecutor(1) as thread:  # the model prepared and the suite resolved while the workers start
@@ -104,6 +104,21 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
 
             write_gap_suite(result, folder.root / RESULT, scene)
     return result
+
+
+def _check_owner(root: Path, force: bool) -> None:
+    """Refuse a folder that holds files pound did not write there, unless `force`."""
+    from ..sweep.store import MARKER
+
+    if not root.exists() or force or (root / MARKER).is_file():
+        return
+    if not root.is_dir():
+        raise InputError("is a file; give a folder for the suite's results (-o)", file=root)
+    held = sorted(p.name for p in root.iterdir())
+    if held:
+        raise InputError(f"holds files that pound did not write ({', '.join(held[:5])}{' …' if len(held) > 5 else ''}); "
+                         f"pound gap --suite writes cases/ and {RESULT} into its folder: give a new or empty folder, "
+                         "or pass --force to write into this one", file=root)  # fmt: skip
 
 
 def _prepared(loaded: Any, suite: str | Path) -> tuple[Any, Suite]:
