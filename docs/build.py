@@ -57,7 +57,7 @@ So an example that needs a file an earlier one did not make, or that overwrites 
 bench's result files through docs/figures.py, never from a run of the build.
 
 **Generated files** (:data:`GENERATORS`): the CLI and model-field references, the report
-images, docs/inelastic.md, docs/paper-example.md and docs/floors.md are written whole by their scripts, run
+images, docs/inelastic.md, docs/paper-example.md, docs/floors.md and docs/suites.md are written whole by their scripts, run
 in the same checkout. Text files are compared byte for byte; images by what they show
 (their signature files in docs/images/, see docs/make_report_images.py), and copied back
 only when that changed.
@@ -129,6 +129,8 @@ GENERATORS = [
     Generator("paper-example", "python docs/paper_studies.py", ["docs/paper-example.md"], needs_shared=True),
     Generator("floors", "python docs/floors_example.py", ["docs/floors.md", "docs/images/floors-images.json"],
               images="docs/images/floors-*"),
+    Generator("suites", "python docs/suites_example.py", ["docs/suites.md", "docs/images/suites-images.json"],
+              images="docs/images/suites-*"),
 ]  # fmt: skip
 
 NOT_RUN = re.compile(r"^(python -m pip install|pip install|python -m pytest|python -m venv|\. \.venv/)")

@@ -232,8 +232,15 @@ def _validate_sweep(file: Path, data: dict[str, Any], json_: bool, strict: bool)
     "every sample, crests refined between samples), the time of closest approach and the margin "
     "(gap − required). Beside it, the code-style estimates ABS, SRSS and DDC from the peak "
     "displacements of the facing edges, each with its ratio to the exact value. -o writes them "
-    "to HDF5 (group /gap), --plot draws the governing pair's approach history.",
-    epilog=_examples("pound gap inputs/paper_pounding.toml", "pound gap model.toml --json -o gap.h5 --plot approach.png"),
+    "to HDF5 (group /gap), --plot draws the governing pair's approach history.\n\n"
+    "With --suite, every record of a suite (a built-in FEMA P695 set, far-field or near-field, or a "
+    "suite file), in each orientation, is a case run in parallel (--jobs, --scheduler as pound sweep) "
+    "into the folder -o (default MODEL-SUITE/), resumably; per pair it prints the median, lognormal β "
+    "and 84th percentile of the required separation and the probability of pounding at the gap as built "
+    "(and at each --at gap), writes OUTPUT/gap-suite.h5 (group /gap_suite), and --plot draws the "
+    "pounding fragility.",
+    epilog=_examples("pound gap inputs/paper_pounding.toml", "pound gap model.toml --json -o gap.h5 --plot approach.png",
+                     "pound gap inputs/paper_pounding.toml --suite far-field --jobs 2 --plot fragility.png"),
 )
 def gap(
     model: ModelArg,
@@ -241,8 +248,20 @@ def gap(
     json_: JsonOpt = False,
     plot: Annotated[Path | None, typer.Option("--plot", metavar="FILE", help="Also draw the governing pair's approach history (.png, .pdf, .svg).")] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the inputs).")] = False,
+    suite: Annotated[str | None, typer.Option("--suite", metavar="SUITE", help="Run every record of this suite: far-field, near-field (FEMA P695; the extra pounding-cli[suites]) or a suite file (.toml, .json); -o is then a folder.")] = None,
+    at: Annotated[list[float] | None, typer.Option("--at", metavar="GAP", help="With --suite: also the probability of pounding at this gap, m (repeatable).")] = None,
+    jobs: Annotated[int | None, typer.Option("-j", "--jobs", metavar="N", help="With --suite: local worker processes (default: all cores).")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", metavar="URL", help="With --suite: run on the Dask scheduler at this address.")] = None,
+    scheduler_file: Annotated[Path | None, typer.Option("--scheduler-file", metavar="FILE", help="With --suite: run on the Dask scheduler described in this file.")] = None,
 ) -> None:
     """The separation each contact candidate needs over the record."""
+    if suite is not None:
+        _gap_suite(model, suite, output, json_, plot, force, at, jobs, scheduler, scheduler_file)
+        return
+    for name, given in (("--at", at), ("--jobs", jobs), ("--scheduler", scheduler), ("--scheduler-file", scheduler_file)):
+        if given is not None:
+            err.print(f"{name}: applies with --suite only", markup=False)
+            raise typer.Exit(2)
     with reported():
         from .api import check_output_path, prepare, run_inputs
         from .gap.required import required_gaps
@@ -273,6 +292,82 @@ def gap(
     for path in (output, plot):
         if path is not None:
             err.print(f"wrote {path}", markup=False)
+
+
+def _gap_suite(model: Path, suite: str, output: Path | None, json_: bool, plot: Path | None, force: bool,
+               at: list[float] | None, jobs: int | None, scheduler: str | None, scheduler_file: Path | None) -> None:  # fmt: skip
+    """pound gap --suite: run the suite's cases, print the statistics, write the file and plot."""
+    if scheduler and scheduler_file:
+        err.print("--scheduler and --scheduler-file: give one of them", markup=False)
+        raise typer.Exit(2)
+    with reported():
+        from .suites.gap_suite import gap_suite
+
+        done = lambda k, n: err.print(f"case {k} of {n} done", markup=False) if sys.stderr.isatty() else None  # noqa: E731
+        result = gap_suite(model, suite, output, jobs=jobs, scheduler=scheduler, scheduler_file=scheduler_file, at=at,
+                           force=force, on_progress=done)  # fmt: skip
+        if plot is not None:
+            from .report.style import save_figure
+            from .suites.plot import fragility_figure
+
+            save_figure(fragility_figure(result.pairs, result.gaps, result.fragility_empirical, result.fragility_fit), plot)
+    if json_:
+        print(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        _print_suite(result)
+    err.print(f"wrote {result.folder / 'gap-suite.h5'}", markup=False)
+    if plot is not None:
+        err.print(f"wrote {plot}", markup=False)
+    if result.failed:
+        raise typer.Exit(1)
+
+
+def _print_suite(result: Any) -> None:
+    """pound gap --suite's table: per pair the distribution of the required separation over the
+    cases, the code-style estimates' medians and the probability of pounding at the gap (mm)."""
+    from .suites.plot import pair_name
+
+    d = result.suite.describe()
+    period = f" at T = {d['period_s']:.4g} s" if d["period_s"] else ""
+    out.print(f"suite {d['suite']}: {d['records']} records, {d['cases']} cases ({d['orientations']}), scaling "
+              f"{d['scaling']['method']}{period}; {len(result.cases) - len(result.failed)} complete, "
+              f"{sum(c['reused'] for c in result.cases)} read from an earlier run", markup=False)  # fmt: skip
+    table = Table(title="required separation over the suite, mm (lognormal fit: median θ, dispersion β, 84th percentile)",
+                  title_justify="left")  # fmt: skip
+    cols = ["pair", "gap", "θ", "β", "84 %", "ABS θ", "SRSS θ", "DDC θ", "P(pound) records", "P(pound) fit"]
+    cols += [f"P at {1e3 * g:g}" for g in result.at]
+    for col in cols:
+        table.add_column(col, justify="left" if col == "pair" else "right")
+    mm = lambda v: "–" if v is None else f"{1e3 * v:.4g}"  # noqa: E731
+    for p in result.pairs:
+        r = p["required"]
+        table.add_row(pair_name(p), mm(p["clear_distance"]), mm(r["median"]), "–" if r["beta"] is None else f"{r['beta']:.3f}",
+                      mm(r["p84"]), mm(p["abs"]["median"]), mm(p["srss"]["median"]), mm(p["ddc"]["median"]),
+                      f"{p['p_pound_empirical']:.3f}", f"{p['p_pound_fit']:.3f}",
+                      *(f"{a['p_empirical']:.3f} / {a['p_fit']:.3f}" for a in p["at"]))  # fmt: skip
+    out.print(table, soft_wrap=False)
+    for c in result.failed:
+        err.print(f"{c['case']}: {c['status']}", markup=False)
+
+
+def _suite_report(path: Path, json_: bool, plots: Path | None, fmt: str, given: dict[str, bool], html: Path | None) -> None:
+    """pound report on a `pound gap --suite` result: its table, --json, the fragility plot (--plots)."""
+    from .report.suite_document import suite_document, suite_tables, write_fragility
+    from .report.tables import rich_table
+
+    refused = [name for name, on in given.items() if on] + (["--html"] if html is not None else [])
+    if refused:
+        raise InputError(f"{refused[0]} does not apply to the result of pound gap --suite (its report is a table, "
+                         "--json and --plots)", field=refused[0])  # fmt: skip
+    doc = suite_document(path)
+    written = write_fragility(path, plots, fmt) if plots is not None else None
+    if written is not None:
+        err.print(f"wrote {written}", markup=False)
+    if json_:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return
+    for spec in suite_tables(doc):
+        out.print(rich_table(spec), soft_wrap=False)
 
 
 def _print_gaps(result: Any) -> None:
@@ -616,7 +711,7 @@ def bench(
     epilog=_examples("pound report out.h5 --plots plots/ --html report.html", "pound report angle_gap/ --plots plots/ --x excitation.angle"),
 )
 def report(
-    paths: Annotated[list[Path], typer.Argument(metavar="FILE|DIR", help="Result files (.h5), or one sweep folder.", show_default=False)],
+    paths: Annotated[list[Path], typer.Argument(metavar="FILE|DIR", help="Result files (.h5), or one sweep folder, or the result of pound gap --suite (its gap-suite.h5 or folder).", show_default=False)],
     json_: JsonOpt = False,
     column: Annotated[
         str | None, typer.Option("--column", metavar="COLUMN", help="Narrow the deflections to one column: C9, or building:column (left:C9).")
@@ -657,6 +752,12 @@ def report(
              "--stride": stride is not None, "--max-frames": max_frames != 120, "--fps": fps != 12,
              "--x": x is not None, "--y": bool(y), "--case": bool(case), "--study": bool(study)}  # fmt: skip
     with reported():
+        from .report.suite_document import suite_file
+
+        suite_result = suite_file(paths[0]) if len(paths) == 1 else None
+        if suite_result is not None:  # pound gap --suite's result: its statistics and fragility plot
+            _suite_report(suite_result, json_, plots, format, given, html)
+            return
         sweep_folder = next((p for p in paths if p.is_dir()), None)
         check_options(sweep_folder is not None, given)
         _refuse_reading_what_is_written(paths, [html, animate])

@@ -8,6 +8,7 @@
 - ``report-sweep.schema.json``: the document ``pound report SWEEP_DIR/ --json`` prints (its
   rows refer to ``sweep-summary.schema.json``);
 - ``sweep.schema.json``: a sweep file (``*.sweep.toml`` / ``.json``, ``pound sweep``);
+- ``suite.schema.json``: a record suite file (``*.suite.toml`` / ``.json``, ``pound gap --suite``);
 - ``sweep-summary.schema.json``: one row of a sweep's summary table, which is also one line
   of ``pound sweep --json``.
 """
@@ -66,6 +67,13 @@ def sweep_schema() -> dict:
     return _published(_input_file(SweepFile.model_json_schema(mode="validation")), "sweep.schema.json")
 
 
+def suite_schema() -> dict:
+    """JSON Schema of a record suite file (TOML or JSON: same structure)."""
+    from .model.suite import SuiteFile
+
+    return _published(_input_file(SuiteFile.model_json_schema(mode="validation")), "suite.schema.json")
+
+
 def sweep_summary_schema() -> dict:
     """JSON Schema of one row of a sweep's summary (one line of `pound sweep --json`)."""
     from .sweep.columns import row_schema
@@ -95,6 +103,7 @@ def schema_files() -> dict[str, str]:
         "record-summary.schema.json": record_summary_schema(),
         "report.schema.json": report_schema(),
         "report-sweep.schema.json": report_sweep_schema(),
+        "suite.schema.json": suite_schema(),
         "sweep.schema.json": sweep_schema(),
         "sweep-summary.schema.json": sweep_summary_schema(),
     }

@@ -30,8 +30,18 @@ def outward_normals(poly: np.ndarray) -> np.ndarray:
 
 
 def support(poly: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """h_P(m) = max_k m·p_k of outlines (..., n, 2) in directions (..., q, 2): (..., q)."""
-    return np.max(np.einsum("...qd,...kd->...qk", m, poly), axis=-1)
+    """h_P(m) = max_k m·p_k of outlines (..., n, 2) in directions (..., q, 2): (..., q).
+
+    Over many instants, a running maximum over the few vertices k (each m·p_k the same two
+    products and one sum as einsum's: bit for bit its result) is an order of magnitude faster
+    than einsum's (..., q, k) product (it is what `pound gap --suite` spends most on); einsum
+    is faster for one instant (the refinement between samples)."""
+    if m.shape[-2] * np.prod(np.broadcast_shapes(poly.shape[:-2], m.shape[:-2])) < 256:
+        return np.max(np.einsum("...qd,...kd->...qk", m, poly), axis=-1)
+    best = m[..., 0] * poly[..., None, 0, 0] + m[..., 1] * poly[..., None, 0, 1]
+    for k in range(1, poly.shape[-2]):
+        np.maximum(best, m[..., 0] * poly[..., None, k, 0] + m[..., 1] * poly[..., None, k, 1], out=best)
+    return best
 
 
 def push_out(a: np.ndarray, b: np.ndarray, n: np.ndarray) -> np.ndarray:

@@ -46,14 +46,29 @@ def pair_table(result: GapResult) -> np.ndarray:
     return np.array(rows, dtype=dtype)
 
 
-def write_gap(result: GapResult, path: str | Path) -> Path:
-    """Write pound gap's file to `path` atomically; returns the path."""
+def read_pairs(f) -> list[dict[str, object]]:  # type: ignore[no-untyped-def]
+    """The rows of /gap/pairs of an open gap file, as dicts of Python values."""
+    table = f["gap/pairs"][()]
+    out = []
+    for row in table:
+        values = {}
+        for name, kind, _ in FIELDS:
+            v = row[name]
+            values[name] = v.decode() if isinstance(v, bytes) else (str(v) if kind is object else v.item())
+        out.append(values)
+    return out
+
+
+def write_gap(result: GapResult, path: str | Path, attrs: dict[str, object] | None = None) -> Path:
+    """Write pound gap's file to `path` atomically, with `attrs` added to the root's
+    attributes (a suite's case adds its own: suites.gap_cases); returns the path."""
     path = Path(path)
     run = result.run
     with atomic_path(path) as tmp:
         with hdf5_writer(tmp, track_order=True) as f:
             f.attrs.update(pound_version=__version__, input_sha256=run.input_sha256, model=run.model_json, units="SI",
                            status="complete", content="pound gap")  # fmt: skip
+            f.attrs.update(attrs or {})
             g = f.create_group("gap")
             g.attrs.update(sample_interval_s=result.sample, refine_tolerance_s=REFINE_TOL,
                            governing=-1 if result.governing is None else result.governing,

@@ -338,6 +338,13 @@ class SweepFile(Strict):
     summary: SummarySettings = SummarySettings()
     """Extra columns of the summary table."""
 
+    suite: Annotated[str, StrictType(), Field(min_length=1, max_length=4096)] | None = None
+    """A record suite: "far-field" or "near-field" (FEMA P695, the extra pounding-cli[suites])
+    or the path of a suite file relative to the sweep file. Every case is run under each of
+    its records (and orientations): its excitation.record becomes the record's, and the
+    parameters excitation.record.name (the suite's case, e.g. RSN953-LT) and excitation.scale
+    (the base model's scale times the record's factor, dimensionless) are summary columns."""
+
     @model_validator(mode="after")
     def _one_layout(self) -> "SweepFile":
         top = bool(self.parameters or self.cases)
@@ -345,7 +352,7 @@ class SweepFile(Strict):
             raise ValueError(
                 "give either parameters and cases at the top level (one study) or [studies.NAME] tables, not both"
             )
-        if not top and not self.studies:
+        if not top and not self.studies and self.suite is None:
             raise ValueError("nothing varies: give parameters, cases, or [studies.NAME] tables")
         total = sum(_count(s) for s in self.all_studies().values())
         if total > MAX_CASES:
@@ -356,6 +363,8 @@ class SweepFile(Strict):
         """Study name → study; a sweep written at the top level is one study named ""."""
         if self.studies:
             return dict(self.studies)
+        if not self.parameters and not self.cases:  # a suite alone: one case per record (sweep.suites)
+            return {"": Study.model_construct(mode=self.mode, parameters={}, cases={}, set={}, description="")}
         return {"": Study(mode=self.mode, parameters=self.parameters, cases=self.cases)}
 
 

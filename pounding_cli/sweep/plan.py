@@ -38,6 +38,7 @@ from .document import CaseDocument, CaseProblem, case_document, describe_problem
 from .expand import CaseSpec, expand
 from .paths import PathError, select
 from .pool import Outcome, Task
+from .suites import with_suite
 from .tasks import check_case
 
 HASH_DIGITS = 12
@@ -121,7 +122,7 @@ def plan_sweep(
     The cases' plausibility warnings are gathered in `Plan.warnings`; with `strict` they are
     problems, refused as the others are."""
     loaded = sweep if isinstance(sweep, LoadedSweep) else load_sweep(sweep)
-    specs = expand(loaded.sweep)
+    specs = with_suite(loaded, expand(loaded.sweep))
     paths = list(dict.fromkeys(p for spec in specs for p in spec.parameters))
     documents, cases = _documents(loaded, specs, paths)
     warnings = _check(loaded, documents, cases, run_tasks, on_progress, strict)

@@ -11,6 +11,8 @@ memory of what ran: deleting the summary loses nothing, and rerunning the sweep 
                  attributes: pound_version, title, sweep_file, base, studies (JSON), counts
     summary.csv  the same table: a header line of column names, then one line per case;
                  numbers at full precision, empty cells where there is no value
+    summary-stats.csv  with a suite: each result column's median, lognormal β and 84th
+                 percentile over the records of each group of cases (sweep.statistics)
 """
 
 from __future__ import annotations
@@ -129,6 +131,10 @@ def write_summary(folder: OutputFolder, manifest: dict[str, Any], rows: list[dic
     h5 = folder.root / SUMMARY_H5
     with atomic_path(h5) as tmp:
         _write_h5(tmp, manifest, rows)
+    if manifest.get("sweep", {}).get("suite"):  # the statistics over the suite's records
+        from .statistics import write_statistics
+
+        write_statistics(folder.root, manifest["columns"], rows)
     return h5, write_text(folder.root / SUMMARY_CSV, csv_text(manifest["columns"], rows))
 
 
