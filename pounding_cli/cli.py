@@ -982,6 +982,10 @@ def _print_candidates(c: dict[str, Any]) -> None:
                   "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
+    if c.get("pruned"):
+        why = "contact.reach" if c["reach_source"] == "contact.reach" else "the bound from the modes and the record's spectral displacement, docs/theory.md"
+        out.print(f"  reach {c['reach_m']:.3g} m ({why}): buildings farther apart at rest have no candidates; "
+                  "every run checks that none of them could have touched", markup=False)  # fmt: skip
 
 
 def _print_description(info: dict[str, Any]) -> None:
