@@ -29,6 +29,7 @@ from .result import (
     YieldingResult,
 )
 from .column_demand import DEMAND_DTYPE, DEMAND_UNITS
+from .sparse import create_sparse
 
 EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
@@ -64,8 +65,10 @@ FLOOR_DTYPE = np.dtype(
 
 
 def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, dims: tuple[h5py.Dataset, ...] = (),
-             **attrs: Any) -> h5py.Dataset:  # fmt: skip
-    ds = group.create_dataset(name, data=data, track_times=False)
+             sparse: bool = False, **attrs: Any) -> h5py.Dataset:  # fmt: skip
+    """A dataset with its units, attributes and dimension scales; `sparse`: only its columns
+    that are not all zeros are written, chunked and compressed (sparse.py)."""
+    ds = create_sparse(group, name, data) if sparse else group.create_dataset(name, data=data, track_times=False)
     ds.attrs["units"] = units
     for key, value in attrs.items():
         ds.attrs[key] = value
@@ -204,7 +207,8 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
                                   "as the law uses them (a struck storey's: in series with its columns' local "
                                   "flexibility); storey_b, xi as in events")  # fmt: skip
     _dims(pairs, pair)
-    common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step")
+    common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step",
+                                  sparse=True)  # fmt: skip
     _dataset(g, "normal_force", c.normal_force, "N", **common)
     _dataset(g, "tangential_force", c.tangential_force, "N", direction="t = z x n, on body B", **common)
     _dataset(g, "area", c.area, "m2", **common)
