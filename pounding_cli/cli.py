@@ -322,6 +322,12 @@ def run(
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the run's inputs).")] = False,
     strict: StrictOpt = False,
+    jobs: Annotated[
+        int | None, typer.Option("-j", "--jobs", metavar="N", help="Run the scene's independent groups (buildings that cannot reach each other) on N local processes, merged into one file.")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", metavar="URL", help="Run the scene's independent groups on the Dask scheduler at this address, e.g. tcp://host:8786.")
+    ] = None,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
     import signal
@@ -332,9 +338,17 @@ def run(
         from .outputs import output_file
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
-        with _progress_bar(show) as bar:
-            result = run_model(model, output=target, progress=bar, force=force, strict=strict,
-                               warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
+        if jobs is not None or scheduler is not None:
+            if jobs is not None and jobs < 1:
+                raise InputError(f"expected a number of processes of at least 1, got {jobs}", field="--jobs")
+            from .city.grouped import run_in_groups
+
+            result = run_in_groups(model, target, jobs=jobs, scheduler=scheduler, force=force, strict=strict,
+                                   warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
+        else:
+            with _progress_bar(show) as bar:
+                result = run_model(model, output=target, progress=bar, force=force, strict=strict,
+                                   warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
         signal.signal(sig, signal.SIG_DFL)
     if note:
