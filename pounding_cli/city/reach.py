@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly.levels import NEAR, near_pairs, outlines
-from ..records.spectrum import coefficients
+from ..records.spectrum import peak_displacement
 
 REACH_FACTOR = 2.0
 """The default reach over the two largest free-response excursion bounds: room for impacts
@@ -41,19 +41,6 @@ class Reach:
     source: str  # "contact.reach", "bound" or why there is none
 
 
-def spectral_displacement(acceleration: np.ndarray, dt: float, omega: np.ndarray, zeta: np.ndarray) -> np.ndarray:
-    """Peak |u| (m) of oscillators (ω rad/s, ζ each) under `acceleration` (m/s², every dt s)."""
-    zeta = np.clip(zeta, 0.0, 0.99)
-    omega = np.maximum(omega, 1e-6)
-    a, b, c, d, a1, b1, c1, d1 = coefficients(omega, zeta, dt)  # type: ignore[arg-type]
-    p = -np.asarray(acceleration, dtype=np.float64)
-    u, v, peak = np.zeros_like(omega), np.zeros_like(omega), np.zeros_like(omega)
-    for i in range(p.size - 1):
-        u, v = a * u + b * v + c * p[i] + d * p[i + 1], a1 * u + b1 * v + c1 * p[i] + d1 * p[i + 1]
-        np.maximum(peak, np.abs(u), out=peak)
-    return peak
-
-
 def excursion_bounds(buildings: list, acceleration: np.ndarray, dt: float) -> np.ndarray:  # type: ignore[type-arg]
     """Per building, the bound of how far any point of any of its slabs moves in plan, m
     (module docstring); inf for a building with yielding members or isolators."""
@@ -64,8 +51,9 @@ def excursion_bounds(buildings: list, acceleration: np.ndarray, dt: float) -> np
         omegas.append(omega)
         zetas.append(a0 / (2 * np.maximum(omega, 1e-12)) + a1 * omega / 2)
         owners.append(np.full(omega.size, k))
-    omega, zeta = np.concatenate(omegas), np.concatenate(zetas)
-    sd = [spectral_displacement(acceleration[:, c], dt, omega, zeta) for c in (0, 1)]
+    omega = np.maximum(np.concatenate(omegas), 1e-6)
+    zeta = np.clip(np.concatenate(zetas), 0.0, 0.99)
+    sd = [peak_displacement(acceleration[:, c], dt, omega, zeta) for c in (0, 1)]
     out = np.empty(len(buildings))
     start = 0
     for k, bld in enumerate(buildings):
@@ -136,13 +124,16 @@ def scene_reach(model, buildings: list, acceleration: np.ndarray, dt: float) -> 
     contact = model.contact
     if not contact.enabled or len(buildings) < 2:
         return Reach(math.inf, "no pairs of buildings"), None
+    n = len(buildings)
+    shapes = outlines(buildings)
     if contact.reach is not None:
         reach = Reach(float(contact.reach), "contact.reach")
+    elif len(near_pairs(shapes, NEAR)) == n * (n - 1) // 2:  # the reach is at least NEAR: nothing to prune
+        return Reach(math.inf, "every two buildings within 1 m"), None
     else:
         bound = max(default_reach(excursion_bounds(buildings, acceleration, dt)), NEAR)
         reach = Reach(bound, "bound" if math.isfinite(bound) else "no bound: yielding members or isolators")
     if not math.isfinite(reach.distance):
         return reach, None
-    near = near_pairs(outlines(buildings), reach.distance)
-    n = len(buildings)
+    near = near_pairs(shapes, reach.distance)
     return reach, (None if len(near) == n * (n - 1) // 2 else frozenset(near))
