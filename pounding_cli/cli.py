@@ -549,6 +549,9 @@ def bench(
     scaling: Annotated[
         bool, typer.Option("--scaling", help="Measure cost against 1, 5, 10, 20, 40 buildings in a row (scaling.md).")
     ] = False,
+    blocks: Annotated[
+        bool, typer.Option("--blocks", help="With --scaling: whole `pound run` cost of city blocks of 9, 25, 100 buildings and 10 blocks with --jobs 2 (city-scaling.md).")
+    ] = False,
     json_: JsonOpt = False,
 ) -> None:
     """Measure run time against error."""
@@ -556,6 +559,18 @@ def bench(
     from .bench.report import markdown, plot, table_rows, write_hdf5
     from .bench.run import QUICK_SETTINGS
 
+    if scaling and blocks:
+        from dataclasses import asdict
+
+        from .bench.city_scaling import city_scaling, markdown as city_markdown
+
+        with reported():
+            out_dir.mkdir(parents=True, exist_ok=True)
+            city = city_scaling(log=lambda text: err.print(text, markup=False))
+            text = city_markdown(city)
+            write_text(out_dir / "city-scaling.md", text)
+        print(json.dumps([asdict(p) for p in city], indent=2)) if json_ else out.print(text, markup=False)
+        return
     if scaling:
         from dataclasses import asdict
 

@@ -111,3 +111,25 @@ def test_a_reach_that_holds_is_not_rerun():
     result = execute(_scene(_trip_doc(0.2)))
     assert result.diagnostics["contact_reach_reruns"] == 0
     assert not [w for w in result.warnings if w["field"] == "contact.reach"]
+
+
+def test_a_block_that_would_not_fit_is_refused_with_its_estimate(tmp_path):
+    """The memory estimate counts the candidates within reach (what the run stores) and refuses
+    before the time loop, exit 2, naming the estimate; no file is written."""
+    import os
+    import subprocess
+    import sys
+
+    import tomli_w
+
+    doc = city_document(block_buildings(Block(rows=4, cols=4)), "4 x 4", record_dir=str(BASE.parent / "records"))
+    model = tmp_path / "block.toml"
+    model.write_text(tomli_w.dumps(doc))
+    scene = _scene(doc)
+    env = {**os.environ, "POUND_MAX_MEMORY_GB": "0.05"}
+    done = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(tmp_path / "out.h5")],
+                          capture_output=True, text=True, env=env)  # fmt: skip
+    assert done.returncode == 2, done.stderr
+    assert f"{scene.contact.n_pairs} contact pairs" in done.stderr and "POUND_MAX_MEMORY_GB" in done.stderr
+    assert "MiB" in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "out.h5").exists()
