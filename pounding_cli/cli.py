@@ -559,29 +559,15 @@ def bench(
     from .bench.report import markdown, plot, table_rows, write_hdf5
     from .bench.run import QUICK_SETTINGS
 
-    if scaling and blocks:
-        from dataclasses import asdict
-
-        from .bench.city_scaling import city_scaling, markdown as city_markdown
-
-        with reported():
-            out_dir.mkdir(parents=True, exist_ok=True)
-            city = city_scaling(log=lambda text: err.print(text, markup=False))
-            text = city_markdown(city)
-            write_text(out_dir / "city-scaling.md", text)
-        print(json.dumps([asdict(p) for p in city], indent=2)) if json_ else out.print(text, markup=False)
-        return
     if scaling:
-        from dataclasses import asdict
+        if blocks:
+            from .bench.city_scaling import city_scaling as measure, markdown as table
 
-        from .bench.scaling import markdown as scaling_markdown, scaling as run_scaling
+            _bench_table(measure, table, out_dir / "city-scaling.md", json_)
+        else:
+            from .bench.scaling import markdown as table, scaling as measure  # type: ignore[assignment]
 
-        with reported():
-            out_dir.mkdir(parents=True, exist_ok=True)
-            points = run_scaling(log=lambda text: err.print(text, markup=False))
-            text = scaling_markdown(points)
-            write_text(out_dir / "scaling.md", text)
-        print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
+            _bench_table(measure, table, out_dir / "scaling.md", json_)
         return
     if stability:
         from dataclasses import asdict
@@ -836,6 +822,19 @@ def _progress_lines(step: int = 10) -> Any:
             err.file.flush()
 
     return update
+
+
+def _bench_table(measure: Any, table: Any, path: Path, json_: bool) -> None:
+    """Run a bench's measurements (logging to stderr), write their markdown table to `path`,
+    print it (or the points as JSON)."""
+    from dataclasses import asdict
+
+    with reported():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        points = measure(log=lambda text: err.print(text, markup=False))
+        text = table(points)
+        write_text(path, text)
+    print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
 
 
 def run_summary(result: Any) -> dict[str, Any]:
