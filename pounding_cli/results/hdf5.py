@@ -110,12 +110,21 @@ def _dims(ds: h5py.Dataset, *scales: h5py.Dataset) -> None:
             group[name] = scale
 
 
+DENSE_ATTRIBUTES_BUILDINGS = 200
+"""Above this many buildings the file is written in HDF5 1.8's format (libver "v108"), whose
+object headers keep large attributes densely: each dataset attached to a dimension scale adds
+an entry to the scale's REFERENCE_LIST attribute, and with a thousand buildings /time's
+outgrows the 64 KiB of the earliest format (H5DSattach_scale fails). HDF5 1.8 (2008) and
+later, h5py and netCDF-4 read it; smaller files keep the earliest format."""
+
+
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path. A file that cannot be
     written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
+    many = {"libver": ("v108", "v108")} if len(result.buildings) > DENSE_ATTRIBUTES_BUILDINGS else {}
     with atomic_path(path, committed=results_written) as tmp:
-        with hdf5_writer(tmp, track_order=True) as f:
+        with hdf5_writer(tmp, track_order=True, **many) as f:
             _write(f, result)
     result.output = path
     return path
