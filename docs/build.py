@@ -129,6 +129,8 @@ GENERATORS = [
     Generator("paper-example", "python docs/paper_studies.py", ["docs/paper-example.md"], needs_shared=True),
     Generator("floors", "python docs/floors_example.py", ["docs/floors.md", "docs/images/floors-images.json"],
               images="docs/images/floors-*"),
+    Generator("city", "python docs/city_example.py", ["docs/city.md", "docs/images/city-images.json"],
+              images="docs/images/city-*"),
 ]  # fmt: skip
 
 NOT_RUN = re.compile(r"^(python -m pip install|pip install|python -m pytest|python -m venv|\. \.venv/)")
