@@ -67,3 +67,21 @@ def test_two_blocks_run_apart_give_the_whole_runs_results(tmp_path):
         map(tuple, whole.contact.pairs[["body_a", "floor_a", "body_b", "floor_b"]].tolist()))
     assert groups.contact.impact_count == whole.contact.impact_count
     assert np.allclose(groups.energy, whole.energy, rtol=1e-8, atol=1e-6 * np.abs(whole.energy).max())
+
+
+def test_groups_whose_merged_results_would_not_fit_are_refused_before_they_run(tmp_path):
+    """The estimate of the merged histories (the resource limits' rule) against
+    POUND_MAX_MEMORY_GB: exit 2 naming it and analysis.output_interval, nothing written."""
+    import os
+
+    doc = city_document(district_buildings(Block(rows=2, cols=2), 2, 1), "two blocks",
+                        record_dir=str(REPO / "inputs" / "records"), duration=4.0)  # fmt: skip
+    model = tmp_path / "two_blocks.toml"
+    model.write_text(tomli_w.dumps(doc))
+    done = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(tmp_path / "out.h5"),
+                           "--jobs", "2"], capture_output=True, text=True,
+                          env={**os.environ, "POUND_MAX_MEMORY_GB": "0.001"})  # fmt: skip
+    assert done.returncode == 2, done.stderr
+    assert "analysis.output_interval: the merged results of its 2 independent groups would hold about" in done.stderr
+    assert "POUND_MAX_MEMORY_GB" in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "out.h5").exists()

@@ -39,6 +39,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     groups = components(len(system.buildings), near) if near is not None else [list(range(len(system.buildings)))]
     if len(groups) == 1:
         return run_model(loaded, output, force=force, strict=strict, warn=warn)
+    check_merged_memory(loaded, system, ground.duration, near, len(groups))
     check_output_path(output, force)
     with _executor(jobs, scheduler, scheduler_file) as executor:
         results = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance, executor.run,
@@ -70,6 +71,33 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     write_results(merged, output)
     merged.output = output
     return merged
+
+
+def check_merged_memory(loaded: Any, system: Any, record_duration: float, near: frozenset, groups: int) -> None:  # type: ignore[type-arg]
+    """Refuse, before any group runs, a scene whose merged results would not fit in memory:
+    the resource limits' estimate (limits.memory_bytes) of the whole scene's histories, with
+    the slab–slab candidates within reach counted from the floors' levels (slab–storey ones
+    are few beside them)."""
+    from ..assembly.contact import _near_level_pairs
+    from ..errors import InputError
+    from ..limits import Size, _gib, force_values, max_memory_bytes, memory_bytes
+
+    analysis = loaded.model.analysis
+    duration = analysis.duration if analysis.duration is not None else record_duration
+    samples = int(duration / analysis.output_interval) + 1
+    pairs = len(_near_level_pairs(system.buildings, set(near)))
+    size = Size(system.n_dof, pairs, int(system.members.top.size),
+                *force_values(system.buildings, analysis.column_force_histories))  # fmt: skip
+    estimate, most = memory_bytes(size, samples), max_memory_bytes()
+    if estimate > most:
+        raise InputError(
+            f"the merged results of its {groups} independent groups would hold about {_gib(estimate)} ({samples:.3g} "
+            f"samples every {analysis.output_interval:.3g} s × {size.per_sample} bytes: {size.n_dof} DOFs, about {pairs} "
+            f"contact pairs), more than the limit of {_gib(most)} (POUND_MAX_MEMORY_GB); store less often (a larger "
+            "output interval) or shorten the analysis",
+            file=loaded.source,
+            field="analysis.output_interval",
+        )
 
 
 def _same_group_pairs(shapes: list, label: np.ndarray, distance: float) -> set[tuple[int, int]]:  # type: ignore[type-arg]
