@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..city.block import Block, city_document, district_buildings
+from .scaling import table
 
 CASES = ((3, 1, 1), (5, 1, 1), (10, 1, 1), (10, 10, 2))
 """(grid side, blocks, local processes)."""
@@ -85,9 +86,8 @@ def city_scaling(cases=CASES, log=lambda _: None) -> list[CityPoint]:  # type: i
 
 
 def markdown(points: list[CityPoint]) -> str:
-    lines = ["| buildings | blocks | --jobs | candidate pairs | groups | solver s | whole run s | s per building | peak memory GB | file MB |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]  # fmt: skip
-    for p in points:
-        lines.append(f"| {p.buildings} | {p.blocks} | {p.jobs} | {p.pairs} | {p.groups} | {p.solver_s:.3g} | {p.run_s:.3g} | "
-                     f"{p.run_s / p.buildings:.3g} | {p.peak_memory_gb:.2f} | {p.file_mb:.3g} |")  # fmt: skip
-    return "\n".join(lines) + "\n"
+    header = ["buildings", "blocks", "--jobs", "candidate pairs", "groups", "solver s", "whole run s", "s per building",
+              "peak memory GB", "file MB"]  # fmt: skip
+    return table(header, [[f"{p.buildings}", f"{p.blocks}", f"{p.jobs}", f"{p.pairs}", f"{p.groups}", f"{p.solver_s:.3g}",
+                           f"{p.run_s:.3g}", f"{p.run_s / p.buildings:.3g}", f"{p.peak_memory_gb:.2f}",
+                           f"{p.file_mb:.3g}"] for p in points])  # fmt: skip

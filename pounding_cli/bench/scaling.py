@@ -48,9 +48,14 @@ def scaling(counts: tuple[int, ...] = COUNTS, duration: float = 10.0, log=lambda
 
 
 def markdown(points: list[Point]) -> str:
-    lines = ["| buildings | DOFs | candidate pairs | CDM µs/step | µs/step per DOF | hybrid solver s per simulated s | impacts |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]  # fmt: skip
-    for p in points:
-        lines.append(f"| {p.buildings} | {p.dofs} | {p.pairs} | {p.cdm_us_per_step:.2f} | "
-                     f"{p.cdm_us_per_step / p.dofs:.3f} | {p.hybrid_s_per_simulated_s:.4f} | {p.impacts} |")  # fmt: skip
-    return "\n".join(lines) + "\n"
+    header = ["buildings", "DOFs", "candidate pairs", "CDM µs/step", "µs/step per DOF", "hybrid solver s per simulated s",
+              "impacts"]  # fmt: skip
+    return table(header, [[f"{p.buildings}", f"{p.dofs}", f"{p.pairs}", f"{p.cdm_us_per_step:.2f}",
+                           f"{p.cdm_us_per_step / p.dofs:.3f}", f"{p.hybrid_s_per_simulated_s:.4f}", f"{p.impacts}"]
+                          for p in points])  # fmt: skip
+
+
+def table(header: list[str], rows: list[list[str]]) -> str:
+    """A Markdown table of right-aligned columns."""
+    lines = ["| " + " | ".join(header) + " |", "|" + " ---: |" * len(header)]
+    return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows]) + "\n"
