@@ -133,3 +133,26 @@ def test_a_block_that_would_not_fit_is_refused_with_its_estimate(tmp_path):
     assert f"{scene.contact.n_pairs} contact pairs" in done.stderr and "POUND_MAX_MEMORY_GB" in done.stderr
     assert "MiB" in done.stderr and "Traceback" not in done.stderr
     assert not (tmp_path / "out.h5").exists()
+
+
+def test_near_level_pairs_are_the_all_pairs_loops_within_reach_in_its_order():
+    """_near_level_pairs against every floor of every building against every other, kept
+    where the two buildings are a `near` pair: the same pairs, in the same order (the order of
+    the contact arrays, which the solver sums forces in)."""
+    from pounding_cli.assembly.contact import _near_level_pairs
+    from pounding_cli.assembly.levels import LEVEL_TOLERANCE
+
+    rng = np.random.default_rng(30)
+
+    class B:
+        def __init__(self, z):
+            self.elevation = z
+            self.n_floors = z.size
+
+    for _ in range(50):
+        blds = [B(np.cumsum(rng.choice([3.0, 3.0005, 3.5, 4.0], size=rng.integers(1, 8)))) for _ in range(rng.integers(2, 7))]
+        near = {(i, j) for i in range(len(blds)) for j in range(i + 1, len(blds)) if rng.random() < 0.5}
+        flat = [(b, f, bld) for b, bld in enumerate(blds) for f in range(bld.elevation.size)]
+        brute = [(ia, ib) for ia, (ba, fa, a) in enumerate(flat) for ib, (bb, fb, b) in enumerate(flat)
+                 if bb > ba and (ba, bb) in near and abs(a.elevation[fa] - b.elevation[fb]) < LEVEL_TOLERANCE]  # fmt: skip
+        assert _near_level_pairs(blds, near) == brute
