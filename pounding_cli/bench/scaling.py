@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from ..api import execute, prepare
 from ..model import read_document, validate_model
 from .run import Setting, scene_files, with_setting
+from .crossover import EVERY_PAIR
 from .stability import _row
 
 COUNTS = (1, 5, 10, 20, 40)
@@ -38,6 +39,7 @@ def scaling(counts: tuple[int, ...] = COUNTS, duration: float = 10.0, log=lambda
         log(f"{n} buildings")
         doc = _row(n)(copy.deepcopy(read_document(base)))
         doc["analysis"]["duration"] = duration
+        doc.setdefault("contact", {})["reach"] = EVERY_PAIR  # every pair of a level, as the sweep and prune meets them
         scene = prepare(validate_model(doc, base))
         cdm = execute(with_setting(scene, Setting("cdm", "cdm", dt=2e-5)))
         hybrid = execute(scene)
