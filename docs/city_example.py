@@ -46,9 +46,37 @@ def main() -> None:
             sys.exit(f"{MODEL.name}: {result.status}")
         run = open_run(out, label="city_block.toml")
         save_signed(plan_figure(run, levels=[1]), IMAGES / "city-plan.png", SIGNED)
+    if SCALING.exists():
+        save_signed(scaling_figure(SCALING.read_text(encoding="utf-8")), IMAGES / "city-scaling.png", SIGNED)
     PAGE.write_text(page(scene, result, everything), encoding="utf-8")
     SIGNATURES.write_text(json.dumps(SIGNED, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
     print(f"wrote {PAGE} and {SIGNATURES}", file=sys.stderr)
+
+
+def scaling_figure(table: str):
+    """Whole-run time and time per building against buildings, from the bench's table."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in table.splitlines()[2:] if line.strip()]
+    n = np.array([float(r[0]) for r in rows])
+    whole = np.array([float(r[6]) for r in rows])
+    memory = np.array([float(r[8]) for r in rows])
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.6), layout="constrained")
+    ax.loglog(n, whole, "o-", label="whole pound run")
+    ax.loglog(n, whole / n, "s--", label="per building")
+    ax.set_xlabel("buildings")
+    ax.set_ylabel("wall time (s)")
+    ax.legend()
+    ax.grid(True, which="both", alpha=0.3)
+    bx.semilogx(n, memory, "o-")
+    bx.set_xlabel("buildings")
+    bx.set_ylabel("peak memory (GB)")
+    bx.grid(True, which="both", alpha=0.3)
+    fig.suptitle("pound bench --scaling --blocks (1000: 10 blocks, --jobs 2)")
+    return fig
 
 
 def _all_level_pairs(scene):
@@ -92,7 +120,9 @@ the result file; the last row is 10 such blocks across 20 m streets, run as inde
 on 2 local processes (`--jobs 2`). Measured on the 2-core machine of [bench](bench.md), shared
 with other work while it ran: compare rows, not machines.
 
-{scaling}"""
+{scaling}
+![Whole run and per-building time, peak memory against buildings](images/city-scaling.png)
+"""
 
 
 if __name__ == "__main__":
