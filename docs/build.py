@@ -131,6 +131,8 @@ GENERATORS = [
               images="docs/images/floors-*"),
     Generator("suites", "python docs/suites_example.py", ["docs/suites.md", "docs/images/suites-images.json"],
               images="docs/images/suites-*"),
+    Generator("city", "python docs/city_example.py", ["docs/city.md", "docs/images/city-images.json"],
+              images="docs/images/city-*"),
 ]  # fmt: skip
 
 NOT_RUN = re.compile(r"^(python -m pip install|pip install|python -m pytest|python -m venv|\. \.venv/)")

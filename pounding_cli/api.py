@@ -36,6 +36,8 @@ from .assembly.origin import back_to_global, check_resolution, local_origin, ref
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
 from .assembly.force_gauges import force_gauges
+from .city.reach import scene_reach
+from .city.rerun import within_reach
 from .errors import AnalysisFailed, InputError
 from .gap.rest import clearance
 from .interrupts import InterruptedAfterWriting, settle, terminate_as_interrupt
@@ -80,9 +82,9 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         system = assemble(loaded)
         limits.check_structure(system, loaded.source)
-        contact = contact_arrays(loaded, system.buildings)
-        check_resolution(scene_points(loaded.model, system, contact), str(loaded.source))
         ground = ground_motion(loaded)
+        contact = contact_within_reach(loaded, system, ground)
+        check_resolution(scene_points(loaded.model, system, contact), str(loaded.source))
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
     scene = replace(scene, notices=tuple(plausibility.notices(scene)))  # before the limits: they blame them
@@ -90,6 +92,13 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
     limits.check_run(resource_run(scene), resource_size(scene), loaded.source, setup,
                      grid.free_steps(ground.dt) if grid.substep else 0)  # fmt: skip
     return scene
+
+
+def contact_within_reach(loaded: LoadedModel, system: System, ground: GroundMotion) -> ContactArrays:
+    """The contact candidates of the buildings within reach of each other (city/reach.py)."""
+    reach, near = scene_reach(loaded.model, system.buildings, ground.acceleration, ground.dt)
+    contact = contact_arrays(loaded, system.buildings, None if near is None else set(near))
+    return replace(contact, reach=reach.distance, reach_source=reach.source, near=near)
 
 
 def setup_counts(loaded: LoadedModel) -> limits.Setup:
@@ -299,6 +308,9 @@ def describe_scene(scene: Scene) -> dict[str, Any]:
                 }
                 for i, p in enumerate(contact.pairs)
             ],
+            "reach_m": contact.reach if np.isfinite(contact.reach) else None,
+            "reach_source": contact.reach_source,
+            "pruned": contact.near is not None,
             "storey_crossings": [
                 {
                     "body_a": system.buildings[c.building].name,
@@ -471,7 +483,8 @@ def where_it_failed(system: System, dof: int) -> str:
 
 
 def execute(
-    scene: Scene, output: str | Path | None = None, progress: Callable[[int, int], None] | None = None
+    scene: Scene, output: str | Path | None = None, progress: Callable[[int, int], None] | None = None,
+    reach_reruns: int = 0,
 ) -> RunResult:
     """Integrate a prepared scene (its time grid may be replaced, as `pound bench` does).
 
@@ -479,7 +492,9 @@ def execute(
     (assembly/contact.py: omega_step). When the run meets a contact stiffer than that by more
     than RERUN_MARGIN (observed_contact_omega), it is repeated at the step that contact needs,
     up to MAX_RERUNS times, then at the outlines' upper bound; the wall and compile times
-    count every attempt."""
+    count every attempt. Where candidates were pruned by reach, a run in which a pruned pair
+    could have touched is repeated with a wider reach (city/rerun.py; `reach_reruns`: the
+    attempts so far)."""
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     t0 = time.perf_counter()
     ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
@@ -542,6 +557,9 @@ def execute(
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     result.warnings = [n.as_dict() for n in scene.notices]
+    if scene.contact.near is not None:
+        result.diagnostics["contact_reach_reruns"] = reach_reruns
+        result = within_reach(scene, result, lambda again, n: execute(again, None, progress, n))
     if output is not None:
         write_results(result, Path(output))
     return result

@@ -417,6 +417,12 @@ def run(
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file if it exists (never one of the run's inputs).")] = False,
     strict: StrictOpt = False,
+    jobs: Annotated[
+        int | None, typer.Option("-j", "--jobs", metavar="N", help="Run the scene's independent groups (buildings that cannot reach each other) on N local processes, merged into one file.")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", metavar="URL", help="Run the scene's independent groups on the Dask scheduler at this address, e.g. tcp://host:8786.")
+    ] = None,
 ) -> None:
     """Run one analysis and write its results to HDF5."""
     import signal
@@ -427,9 +433,17 @@ def run(
         from .outputs import output_file
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
-        with _progress_bar(show) as bar:
-            result = run_model(model, output=target, progress=bar, force=force, strict=strict,
-                               warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
+        if jobs is not None or scheduler is not None:
+            if jobs is not None and jobs < 1:
+                raise InputError(f"expected a number of processes of at least 1, got {jobs}", field="--jobs")
+            from .city.grouped import run_in_groups
+
+            result = run_in_groups(model, target, jobs=jobs, scheduler=scheduler, force=force, strict=strict,
+                                   warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
+        else:
+            with _progress_bar(show) as bar:
+                result = run_model(model, output=target, progress=bar, force=force, strict=strict,
+                                   warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it
         signal.signal(sig, signal.SIG_DFL)
     if note:
@@ -630,6 +644,9 @@ def bench(
     scaling: Annotated[
         bool, typer.Option("--scaling", help="Measure cost against 1, 5, 10, 20, 40 buildings in a row (scaling.md).")
     ] = False,
+    blocks: Annotated[
+        bool, typer.Option("--blocks", help="With --scaling: whole `pound run` cost of city blocks of 9, 25, 100 buildings and 10 blocks with --jobs 2 (city-scaling.md).")
+    ] = False,
     json_: JsonOpt = False,
 ) -> None:
     """Measure run time against error."""
@@ -638,16 +655,14 @@ def bench(
     from .bench.run import QUICK_SETTINGS
 
     if scaling:
-        from dataclasses import asdict
+        if blocks:
+            from .bench.city_scaling import city_scaling as measure, markdown as table
 
-        from .bench.scaling import markdown as scaling_markdown, scaling as run_scaling
+            _bench_table(measure, table, out_dir / "city-scaling.md", json_)
+        else:
+            from .bench.scaling import markdown as table, scaling as measure  # type: ignore[assignment]
 
-        with reported():
-            out_dir.mkdir(parents=True, exist_ok=True)
-            points = run_scaling(log=lambda text: err.print(text, markup=False))
-            text = scaling_markdown(points)
-            write_text(out_dir / "scaling.md", text)
-        print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
+            _bench_table(measure, table, out_dir / "scaling.md", json_)
         return
     if stability:
         from dataclasses import asdict
@@ -910,6 +925,19 @@ def _progress_lines(step: int = 10) -> Any:
     return update
 
 
+def _bench_table(measure: Any, table: Any, path: Path, json_: bool) -> None:
+    """Run a bench's measurements (logging to stderr), write their markdown table to `path`,
+    print it (or the points as JSON)."""
+    from dataclasses import asdict
+
+    with reported():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        points = measure(log=lambda text: err.print(text, markup=False))
+        text = table(points)
+        write_text(path, text)
+    print(json.dumps([asdict(p) for p in points], indent=2)) if json_ else out.print(text, markup=False)
+
+
 def run_summary(result: Any) -> dict[str, Any]:
     """The short summary printed after a run (also the --json document)."""
     import numpy as np
@@ -1083,6 +1111,10 @@ def _print_candidates(c: dict[str, Any]) -> None:
                   "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
+    if c.get("pruned"):
+        why = "contact.reach" if c["reach_source"] == "contact.reach" else "the bound from the modes and the record's spectral displacement, docs/theory.md"
+        out.print(f"  reach {c['reach_m']:.3g} m ({why}): buildings farther apart at rest have no candidates; "
+                  "every run checks that none of them could have touched", markup=False)  # fmt: skip
 
 
 def _print_description(info: dict[str, Any]) -> None:

@@ -267,7 +267,8 @@ def force_values(buildings, column_histories: bool) -> tuple[int, int]:  # type:
 
 
 def history_bytes(size: Size, samples: int) -> int:
-    """Bytes of the time histories a run writes: about the size of its HDF5 file."""
+    """Bytes of the time histories a run holds: about the size of its HDF5 file at most (contact
+    histories are written only where they hold a value, results/sparse.py)."""
     return size.per_sample * samples
 
 

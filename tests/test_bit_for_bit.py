@@ -21,7 +21,11 @@ count in the impact log) are hashed apart (ADDED_COLUMNS), so the table's own pi
 Issue 28 moved two columns deliberately: the impact log's t_start and t_end, now located inside
 their contact step (up to one step earlier). Its pin was renewed after every other column of
 every scene's log was compared with f3049db's, value for value, and found equal, and every
-other dataset's pin held.
+other dataset's pin held. Issue 30 re-pinned row_of_5 alone: its buildings 1 and 5, 24 m apart,
+lose their candidates (contact.reach), so its pairs, contact histories, the pair numbers of its
+log and diagnostics/contact_pairs change and two reach diagnostics are added; every building,
+energy and time dataset is unchanged. Merged, row_of_5's log differs from issue 30's branch in
+t_start and t_end alone.
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from pounding_cli.bench.crossover import EVERY_PAIR
 from pounding_cli.api import prepare
 from pounding_cli.bench.stability import _row
 from pounding_cli.model import read_document, validate_model
@@ -24,6 +25,7 @@ from free_bodies import free_slabs, square
 SCENES = Path(__file__).resolve().parents[1] / "pounding_cli" / "bench" / "scenes"
 
 # (model, duration s covering the first impacts, edit, integrator: None = the scene's own, 0 = CDM)
+
 CASES = {
     "paper example": (INPUTS / "paper_pounding.toml", 15.0, None, None),
     "row of 5": (SCENES / "row_of_5.toml", 10.0, None, None),
@@ -39,6 +41,7 @@ def _scene(path: Path, duration: float, edit=None):
     if edit is not None:
         doc = edit(doc)
     doc["analysis"]["duration"] = duration
+    doc.setdefault("contact", {})["reach"] = EVERY_PAIR  # every pair of a level: the broad phase's own test
     return prepare(validate_model(doc, path))
 
 

@@ -123,6 +123,9 @@ class ContactArrays:
     storey_above: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # (n_s,) global floor above
     storey_shape: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_s,) s(ξ)
     storey_arm: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))  # (n_s, 2) G_above − G_below at rest, m
+    reach: float = float("inf")  # m: buildings farther apart at rest have no candidates (city/reach.py)
+    reach_source: str = ""  # "contact.reach", "bound" or why nothing is pruned
+    near: frozenset[tuple[int, int]] | None = None  # the building pairs within reach when some were pruned, else None
 
     def stiffness_field(self, cause: tuple[int, int]) -> str:
         """The model field that sets the stiffness term `cause` (a cause_max or cause_step)."""
@@ -134,8 +137,10 @@ class ContactArrays:
         return self.pair_a.size
 
 
-def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> ContactArrays:
-    """Candidate pairs and their parameters (no pairs when contact is disabled)."""
+def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays],
+                   near: set[tuple[int, int]] | None = None) -> ContactArrays:  # fmt: skip
+    """Candidate pairs and their parameters (no pairs when contact is disabled). `near`: the
+    building pairs (i, j), i < j, within reach (city/reach.py); None: every two buildings."""
     model = loaded.model
     contact = model.contact
     polys, floors, centres, masses, inertias, owners = [], [], [], [], [], []
@@ -159,7 +164,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
         masses.append(np.inf)
         inertias.append(np.inf)
     # the storeys that slabs strike between a neighbour's floors: bodies after the obstacles
-    crossings = storey_crossings(buildings, moat_pits(model)) if contact.enabled else []
+    crossings = storey_crossings(buildings, moat_pits(model), near) if contact.enabled else []
     storeys = [storey_body(buildings, c) for c in crossings]
     first_floor = np.concatenate([[0], np.cumsum([b.n_floors for b in buildings])]).astype(np.int64)
     storey_bodies = len(polys)
@@ -183,7 +188,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays]) -> Cont
     candidates: list[tuple[int, int, PairInfo]] = []
     if contact.enabled:
         flat = [(b, f, bld) for b, bld in enumerate(buildings) for f in range(bld.n_floors)]
-        for ia, ib in _level_pairs(flat):
+        for ia, ib in _level_pairs(flat) if near is None else _near_level_pairs(buildings, near):
             (_, fa, bld_a), (_, fb, bld_b) = flat[ia], flat[ib]
             info = PairInfo(bld_a.name, fa + 1, bld_b.name, fb + 1, float(bld_a.elevation[fa]))
             candidates.append((ia, ib, info))
@@ -336,6 +341,23 @@ def _level_pairs(flat: list) -> list[tuple[int, int]]:  # type: ignore[type-arg]
         near = near[(owner[near] > owner[ia]) & (np.abs(z[ia] - z[near]) < LEVEL_TOLERANCE)]
         out.extend((ia, int(ib)) for ib in near)
     return out
+
+
+def _near_level_pairs(buildings: list[BuildingArrays], near: set[tuple[int, int]]) -> list[tuple[int, int]]:
+    """_level_pairs restricted to the building pairs `near`, in the same order (by ia, then
+    ib), found pair by pair: O(pairs within reach), not O(floors at a level)."""
+    first = np.concatenate([[0], np.cumsum([b.n_floors for b in buildings])]).astype(np.int64)
+    out = []
+    for i, j in near:
+        z_j = buildings[j].elevation
+        order = np.argsort(z_j, kind="stable")
+        for fa, z in enumerate(buildings[i].elevation):
+            lo = np.searchsorted(z_j[order], z - LEVEL_TOLERANCE, side="left")
+            hi = np.searchsorted(z_j[order], z + LEVEL_TOLERANCE, side="right")
+            for fb in order[lo:hi]:
+                if abs(z - z_j[fb]) < LEVEL_TOLERANCE:
+                    out.append((int(first[i] + fa), int(first[j] + fb)))
+    return sorted(out)
 
 
 def _obstacle_field(model, o: int) -> str:

@@ -17,6 +17,7 @@ neighbour's foundation, which pound does not model.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,18 +46,20 @@ class StoreyCrossing:
     height: float  # h, the storey's height, m
 
 
-def storey_crossings(buildings: list[BuildingArrays], pits: frozenset[int] = frozenset()) -> list[StoreyCrossing]:
+def storey_crossings(buildings: list[BuildingArrays], pits: frozenset[int] = frozenset(),
+                     near: set[tuple[int, int]] | None = None) -> list[StoreyCrossing]:  # fmt: skip
     """Every slab of every building that lies inside a storey of another building, ordered by
     slab building, slab floor, struck building. A slab within LEVEL_TOLERANCE of a floor of
     the neighbour is slab–slab instead, and one within it of the neighbour's ground (or not
     above it, or above its roof) meets nothing of that building. `pits`: the buildings whose
     isolation storey stands in a moat; the moat wall shields their base slab (floor 1) and their
-    isolation storey (storey 1) from the neighbours, so neither is a crossing."""
+    isolation storey (storey 1) from the neighbours, so neither is a crossing. `near`: the
+    building pairs (i, j), i < j, within reach (city/reach.py); None: every two buildings."""
+    others = _others(len(buildings), near)
     out = []
     for a, slabs in enumerate(buildings):
-        for b, struck in enumerate(buildings):
-            if b == a:
-                continue
+        for b in others[a]:
+            struck = buildings[b]
             levels = struck.levels
             for f, z in enumerate(slabs.elevation):
                 if not levels[0] + LEVEL_TOLERANCE <= z <= levels[-1] - LEVEL_TOLERANCE or (f == 0 and a in pits):
@@ -70,6 +73,17 @@ def storey_crossings(buildings: list[BuildingArrays], pits: frozenset[int] = fro
                 h = above_z - below_z
                 out.append(StoreyCrossing(a, f, b, above, float(z), float((z - below_z) / h), h))
     return out
+
+
+def _others(n: int, near: set[tuple[int, int]] | None) -> list[list[int]]:
+    """For each building, the others it may meet, ascending: all, or its pairs in `near`."""
+    if near is None:
+        return [[b for b in range(n) if b != a] for a in range(n)]
+    out: list[list[int]] = [[] for _ in range(n)]
+    for i, j in near:
+        out[i].append(j)
+        out[j].append(i)
+    return [sorted(o) for o in out]
 
 
 def facing_crossings(crossings: list[StoreyCrossing]) -> list[bool]:
@@ -104,35 +118,50 @@ def clear_distance(poly_a: np.ndarray, poly_b: np.ndarray) -> float:
     return float(shapely.Polygon(poly_a).distance(shapely.Polygon(poly_b)))
 
 
-def neighbours(buildings: list[BuildingArrays]) -> list[tuple[int, int, float]]:
+def neighbours(buildings: list[BuildingArrays], within: float = NEAR) -> list[tuple[int, int, float]]:
     """(i, j, d) for every two buildings i < j whose outlines at rest (any slab) come within
-    NEAR of each other in plan, d their smallest distance, m; found with shapely's STRtree, so
-    a city block is not compared building by building."""
+    `within` (m, default NEAR) of each other in plan, d their smallest distance, m; found with
+    shapely's STRtree, so a city block is not compared building by building."""
+    shapes = outlines(buildings)
+    return [(i, j, float(shapes[i].distance(shapes[j]))) for i, j in sorted(near_pairs(shapes, within))]
+
+
+def outlines(buildings: list) -> list:  # type: ignore[type-arg]
+    """Each building's plan outline at rest: the union of its slabs (shapely)."""
     import shapely
 
-    outlines = [shapely.union_all([shapely.Polygon(p) for p in b.slabs]) for b in buildings]
-    tree = shapely.STRtree(outlines)
-    found = tree.query(outlines, predicate="dwithin", distance=NEAR)
-    out = []
-    for i, j in sorted({(int(min(i, j)), int(max(i, j))) for i, j in found.T if i != j}):
-        out.append((i, j, float(outlines[i].distance(outlines[j]))))
-    return out
+    return [shapely.union_all([shapely.Polygon(p) for p in b.slabs]) for b in buildings]
 
 
-def unmet_neighbours(buildings: list[BuildingArrays], pairs: list, crossings: list[StoreyCrossing]) -> list[tuple[int, int, float]]:  # type: ignore[type-arg]
+def near_pairs(shapes: list, distance: float) -> set[tuple[int, int]]:  # type: ignore[type-arg]
+    """(i, j), i < j, of the outlines within `distance` (m) of each other: shapely's STRtree,
+    O(N log N) for a city rather than every two buildings."""
+    import shapely
+
+    if not math.isfinite(distance):
+        n = len(shapes)
+        return {(i, j) for i in range(n) for j in range(i + 1, n)}
+    tree = shapely.STRtree(shapes)
+    found = tree.query(shapes, predicate="dwithin", distance=distance)
+    return {(int(min(i, j)), int(max(i, j))) for i, j in found.T if i != j}
+
+
+def unmet_neighbours(buildings: list[BuildingArrays], pairs: list, crossings: list[StoreyCrossing],  # type: ignore[type-arg]
+                     reach: float = math.inf) -> list[tuple[int, int, float]]:  # fmt: skip
     """The neighbours (i, j, d) of `neighbours` between which no contact can happen: no floors
     at one level (no slab–slab candidate among `pairs`, the contact arrays' PairInfo) and no
     slab of one inside a storey of the other. Such a pair is named in a plausibility warning
     (plausibility.unmet_neighbours): their floors all lie where nothing meets (one wholly above
-    the other's roof, or at the other's ground)."""
+    the other's roof, or at the other's ground). Neighbours beyond `reach` (m) have no
+    candidates by design (city/reach.py) and are not named."""
     index = {b.name: k for k, b in enumerate(buildings)}
     met = {tuple(sorted((index[p.body_a], index[p.body_b]))) for p in pairs if p.floor_b}
     met |= {(min(c.building, c.struck), max(c.building, c.struck)) for c in crossings}
-    return [(i, j, d) for i, j, d in neighbours(buildings) if (i, j) not in met]
+    return [(i, j, d) for i, j, d in neighbours(buildings, min(NEAR, reach)) if (i, j) not in met]
 
 
 def scene_unmet_neighbours(scene) -> list[tuple[int, int, float]]:  # type: ignore[no-untyped-def]
     """unmet_neighbours of a prepared scene (none when contact is off)."""
     if not scene.loaded.model.contact.enabled:
         return []
-    return unmet_neighbours(scene.system.buildings, scene.contact.pairs, scene.contact.crossings)
+    return unmet_neighbours(scene.system.buildings, scene.contact.pairs, scene.contact.crossings, scene.contact.reach)

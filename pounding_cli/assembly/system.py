@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..model import LoadedModel
 from .building import BuildingArrays, assemble_building
-from .levels import LEVEL_TOLERANCE, moat_pits, neighbours, storey_crossings
+from .levels import LEVEL_TOLERANCE, moat_pits, near_pairs, neighbours, outlines, storey_crossings
 
 
 
@@ -129,13 +129,14 @@ def check_no_overlap_at_rest(buildings: list[BuildingArrays], source: str, pits:
         area = sa.intersection(sb).area
         return area if area > 1e-9 * min(sa.area, sb.area) else 0.0
 
-    for j, b in enumerate(buildings):
-        for i, a in enumerate(buildings[:j]):
-            for fa, za in enumerate(a.elevation):
-                for fb in np.flatnonzero(np.abs(b.elevation - za) < LEVEL_TOLERANCE):
-                    if area := overlap(a.slabs[fa], b.slabs[fb]):
-                        refuse(j, int(fb), i, fa, za, area, "floor")
-    for c in storey_crossings(buildings, pits):
+    touching = near_pairs(outlines(buildings), 0.0)  # only outlines that meet can overlap
+    for i, j in sorted(touching, key=lambda p: (p[1], p[0])):
+        a, b = buildings[i], buildings[j]
+        for fa, za in enumerate(a.elevation):
+            for fb in np.flatnonzero(np.abs(b.elevation - za) < LEVEL_TOLERANCE):
+                if area := overlap(a.slabs[fa], b.slabs[fb]):
+                    refuse(j, int(fb), i, fa, za, area, "floor")
+    for c in storey_crossings(buildings, pits, touching):
         struck = buildings[c.struck]
         if area := overlap(buildings[c.building].slabs[c.floor], struck.slabs[c.storey - 1]):
             refuse(c.building, c.floor, c.struck, c.storey - 1, c.elevation, area, "the storey beneath floor")

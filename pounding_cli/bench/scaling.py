@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from ..api import execute, prepare
 from ..model import read_document, validate_model
 from .run import Setting, scene_files, with_setting
+from .crossover import EVERY_PAIR
 from .stability import _row
 
 COUNTS = (1, 5, 10, 20, 40)
@@ -38,6 +39,7 @@ def scaling(counts: tuple[int, ...] = COUNTS, duration: float = 10.0, log=lambda
         log(f"{n} buildings")
         doc = _row(n)(copy.deepcopy(read_document(base)))
         doc["analysis"]["duration"] = duration
+        doc.setdefault("contact", {})["reach"] = EVERY_PAIR  # every pair of a level, as the sweep and prune meets them
         scene = prepare(validate_model(doc, base))
         cdm = execute(with_setting(scene, Setting("cdm", "cdm", dt=2e-5)))
         hybrid = execute(scene)
@@ -48,9 +50,14 @@ def scaling(counts: tuple[int, ...] = COUNTS, duration: float = 10.0, log=lambda
 
 
 def markdown(points: list[Point]) -> str:
-    lines = ["| buildings | DOFs | candidate pairs | CDM µs/step | µs/step per DOF | hybrid solver s per simulated s | impacts |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]  # fmt: skip
-    for p in points:
-        lines.append(f"| {p.buildings} | {p.dofs} | {p.pairs} | {p.cdm_us_per_step:.2f} | "
-                     f"{p.cdm_us_per_step / p.dofs:.3f} | {p.hybrid_s_per_simulated_s:.4f} | {p.impacts} |")  # fmt: skip
-    return "\n".join(lines) + "\n"
+    header = ["buildings", "DOFs", "candidate pairs", "CDM µs/step", "µs/step per DOF", "hybrid solver s per simulated s",
+              "impacts"]  # fmt: skip
+    return table(header, [[f"{p.buildings}", f"{p.dofs}", f"{p.pairs}", f"{p.cdm_us_per_step:.2f}",
+                           f"{p.cdm_us_per_step / p.dofs:.3f}", f"{p.hybrid_s_per_simulated_s:.4f}", f"{p.impacts}"]
+                          for p in points])  # fmt: skip
+
+
+def table(header: list[str], rows: list[list[str]]) -> str:
+    """A Markdown table of right-aligned columns."""
+    lines = ["| " + " | ".join(header) + " |", "|" + " ---: |" * len(header)]
+    return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows]) + "\n"

@@ -64,6 +64,12 @@ class Contact(Strict):
     damping_tangential: Annotated[Real, Field(gt=0)] | None = None
     """Tangential dashpot coefficient c_T, N·s/m, in parallel with the friction spring."""
 
+    reach: Annotated[Real, Field(gt=0)] | None = None
+    """Reach, m: two buildings whose outlines at rest lie farther apart in plan than this get
+    no contact candidates. Default: the bound from the buildings' modes and the record's
+    spectral displacement (docs/theory.md, "Which buildings can meet"). Every run checks that
+    no pruned pair came within reach of touching, and reruns with a larger reach if one did."""
+
     @model_validator(mode="after")
     def _consistent(self) -> "Contact":
         if self.friction_kinetic > self.friction_static:

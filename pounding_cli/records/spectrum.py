@@ -70,9 +70,15 @@ def pseudo_acceleration(
     acceleration: np.ndarray, dt: float, periods: np.ndarray = DEFAULT_PERIODS, zeta: float = DAMPING
 ) -> np.ndarray:
     """PSA(T) = ω² max|u|, m/s², for each period T (s) of `periods`."""
-    periods = np.asarray(periods, dtype=np.float64)
-    omega = 2.0 * np.pi / periods
-    a, b, c, d, a1, b1, c1, d1 = coefficients(omega, zeta, dt)
+    omega = 2.0 * np.pi / np.asarray(periods, dtype=np.float64)
+    return omega * omega * peak_displacement(acceleration, dt, omega, zeta)
+
+
+def peak_displacement(acceleration: np.ndarray, dt: float, omega: np.ndarray, zeta: float | np.ndarray = DAMPING) -> np.ndarray:
+    """max|u| (m) of oscillators of circular frequencies `omega` (rad/s) and damping ratios
+    `zeta` (one, or one each), from rest, under `acceleration` (m/s²)."""
+    omega = np.asarray(omega, dtype=np.float64)
+    a, b, c, d, a1, b1, c1, d1 = coefficients(omega, zeta, dt)  # type: ignore[arg-type]
     p = -np.asarray(acceleration, dtype=np.float64)
     u = np.zeros_like(omega)
     v = np.zeros_like(omega)
@@ -80,4 +86,4 @@ def pseudo_acceleration(
     for i in range(p.size - 1):  # one pass over time, every period at once; no history kept
         u, v = a * u + b * v + c * p[i] + d * p[i + 1], a1 * u + b1 * v + c1 * p[i] + d1 * p[i + 1]
         np.maximum(peak, np.abs(u), out=peak)
-    return omega * omega * peak
+    return peak

@@ -30,7 +30,8 @@ def write_forces(g: h5py.Group, peaks: h5py.Group, f: ForceResult, time: h5py.Da
     _dataset(g, "base_shear", f.base_shear, units, (time, component), sampling=sampling,
              description="the shear of the storey on the building's ground (storey 1)")  # fmt: skip
     _dataset(g, "floor_contact", f.floor_contact, "N, N, N*m", (time, floor, _labels(g, "floor_force", list(FLOOR_FORCE))),
-             axes="global", point="mass centre", description="the contact forces on each floor", sampling=sampling)  # fmt: skip
+             axes="global", point="mass centre", description="the contact forces on each floor", sampling=sampling,
+             sparse=True)  # fmt: skip
     if f.column_shear is not None:
         _dataset(g, "column_shear", f.column_shear, "N", (time, column, storey, axis), axes="column local x, y",
                  description=COLUMN_DESCRIPTION, sampling=sampling)  # fmt: skip

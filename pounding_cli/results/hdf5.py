@@ -29,6 +29,7 @@ from .result import (
     YieldingResult,
 )
 from .column_demand import DEMAND_DTYPE, DEMAND_UNITS
+from .sparse import create_sparse
 
 EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -, s, s, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
@@ -64,8 +65,10 @@ FLOOR_DTYPE = np.dtype(
 
 
 def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, dims: tuple[h5py.Dataset, ...] = (),
-             **attrs: Any) -> h5py.Dataset:  # fmt: skip
-    ds = group.create_dataset(name, data=data, track_times=False)
+             sparse: bool = False, **attrs: Any) -> h5py.Dataset:  # fmt: skip
+    """A dataset with its units, attributes and dimension scales; `sparse`: only its columns
+    that are not all zeros are written, chunked and compressed (sparse.py)."""
+    ds = create_sparse(group, name, data) if sparse else group.create_dataset(name, data=data, track_times=False)
     ds.attrs["units"] = units
     for key, value in attrs.items():
         ds.attrs[key] = value
@@ -107,12 +110,21 @@ def _dims(ds: h5py.Dataset, *scales: h5py.Dataset) -> None:
             group[name] = scale
 
 
+DENSE_ATTRIBUTES_BUILDINGS = 200
+"""Above this many buildings the file is written in HDF5 1.8's format (libver "v108"), whose
+object headers keep large attributes densely: each dataset attached to a dimension scale adds
+an entry to the scale's REFERENCE_LIST attribute, and with a thousand buildings /time's
+outgrows the 64 KiB of the earliest format (H5DSattach_scale fails). HDF5 1.8 (2008) and
+later, h5py and netCDF-4 read it; smaller files keep the earliest format."""
+
+
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path. A file that cannot be
     written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
+    many = {"libver": ("v108", "v108")} if len(result.buildings) > DENSE_ATTRIBUTES_BUILDINGS else {}
     with atomic_path(path, committed=results_written) as tmp:
-        with hdf5_writer(tmp, track_order=True) as f:
+        with hdf5_writer(tmp, track_order=True, **many) as f:
             _write(f, result)
     result.output = path
     return path
@@ -207,7 +219,8 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
                                   "as the law uses them (a struck storey's: in series with its columns' local "
                                   "flexibility); storey_b, xi as in events")  # fmt: skip
     _dims(pairs, pair)
-    common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step")
+    common: dict[str, Any] = dict(dims=(time, pair), sampling="output interval; peaks and the impact log use every step",
+                                  sparse=True)  # fmt: skip
     _dataset(g, "normal_force", c.normal_force, "N", **common)
     _dataset(g, "tangential_force", c.tangential_force, "N", direction="t = z x n, on body B", **common)
     _dataset(g, "area", c.area, "m2", **common)

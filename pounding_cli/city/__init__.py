@@ -1,0 +1,1 @@
+"""City scale: blocks of buildings (block.py), contact candidates within reach (reach.py)."""

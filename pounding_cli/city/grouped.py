@@ -1,0 +1,134 @@
+"""`pound run --jobs N` / `--scheduler URL`: a scene of independent groups (city/groups.py)
+run group by group on local processes or a Dask cluster, merged into one result file."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..results.result import RunResult
+
+
+def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, scheduler: str | None = None,
+                  scheduler_file: str | None = None, force: bool = False, strict: bool = False,
+                  warn: Callable[[Any], None] | None = None) -> RunResult:  # fmt: skip
+    """Run `model` as its independent groups in parallel and write one HDF5 file; a model of
+    one group (or one that cannot be split: obstacles, buildings placed by others) runs as
+    `pound run` does. After the merge, buildings of different groups must not have come
+    within their measured excursions of touching; if two could have, the scene runs again
+    whole, with a reach that holds them, and says so."""
+    from ..api import check_output_path, input_sha256, run_model, write_results
+    from ..assembly import assemble, ground_motion
+    from ..assembly.levels import outlines
+    from ..model import load_model, read_document
+    from ..model.placement import stored_json
+    from ..plausibility import Notice
+    from .groups import components, merge, run_groups, split_allowed
+    from .reach import REACH_FACTOR, check_pruned, measured_excursions, scene_reach
+
+    loaded = load_model(model)
+    if not split_allowed(loaded.model):
+        return run_model(loaded, output, force=force, strict=strict, warn=warn)
+    system = assemble(loaded)
+    ground = ground_motion(loaded)
+    reach, near = scene_reach(loaded.model, system.buildings, ground.acceleration, ground.dt)
+    groups = components(len(system.buildings), near) if near is not None else [list(range(len(system.buildings)))]
+    if len(groups) == 1:
+        return run_model(loaded, output, force=force, strict=strict, warn=warn)
+    check_merged_memory(loaded, system, ground.duration, near, len(groups))
+    check_output_path(output, force)
+    with _executor(jobs, scheduler, scheduler_file) as executor:
+        results = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance, executor.run,
+                             strict)  # fmt: skip
+    names = [b.name for b in system.buildings]
+    merged = merge(results, names, stored_json(loaded.model), input_sha256(loaded, ground))
+    label = np.empty(len(names), dtype=np.int64)
+    for g, members in enumerate(groups):
+        label[members] = g
+    shapes = outlines(system.buildings)
+    moved = measured_excursions(merged, system.buildings)
+    same = {(i, j) for i, j in near or ()} | _same_group_pairs(shapes, label, float(np.sort(moved)[-2:].sum()))
+    missed = check_pruned(shapes, same, moved, reach.distance)
+    if missed:
+        i, j, d = missed[0]
+        wider = max(2.0 * reach.distance, REACH_FACTOR * float(np.sort(moved)[-2:].sum()))
+        notice = Notice(str(loaded.source), "contact.reach",
+                        f"buildings {names[i]!r} and {names[j]!r} of different groups, {d:.3g} m apart, moved "
+                        f"{moved[i]:.3g} m and {moved[j]:.3g} m: they could have touched; ran the scene again whole "
+                        f"with a reach of {wider:.3g} m")  # fmt: skip
+        if warn is not None:
+            warn(notice)
+        contact = loaded.model.contact.model_copy(update={"reach": wider})
+        again = replace(loaded, model=loaded.model.model_copy(update={"contact": contact}))
+        result = run_model(again, output, force=True, strict=strict, warn=warn)
+        result.warnings.append(notice.as_dict())
+        return result
+    merged.diagnostics["contact_reach_m"] = reach.distance
+    write_results(merged, output)
+    merged.output = output
+    return merged
+
+
+def check_merged_memory(loaded: Any, system: Any, record_duration: float, near: frozenset, groups: int) -> None:  # type: ignore[type-arg]
+    """Refuse, before any group runs, a scene whose merged results would not fit in memory:
+    the resource limits' estimate (limits.memory_bytes) of the whole scene's histories, with
+    the slab–slab candidates within reach counted from the floors' levels (slab–storey ones
+    are few beside them)."""
+    from ..assembly.contact import _near_level_pairs
+    from ..errors import InputError
+    from ..limits import Size, _gib, force_values, max_memory_bytes, memory_bytes
+
+    analysis = loaded.model.analysis
+    duration = analysis.duration if analysis.duration is not None else record_duration
+    samples = int(duration / analysis.output_interval) + 1
+    pairs = len(_near_level_pairs(system.buildings, set(near)))
+    size = Size(system.n_dof, pairs, int(system.members.top.size),
+                *force_values(system.buildings, analysis.column_force_histories))  # fmt: skip
+    estimate, most = memory_bytes(size, samples), max_memory_bytes()
+    if estimate > most:
+        raise InputError(
+            f"the merged results of its {groups} independent groups would hold about {_gib(estimate)} ({samples:.3g} "
+            f"samples every {analysis.output_interval:.3g} s × {size.per_sample} bytes: {size.n_dof} DOFs, about {pairs} "
+            f"contact pairs), more than the limit of {_gib(most)} (POUND_MAX_MEMORY_GB); store less often (a larger "
+            "output interval) or shorten the analysis",
+            file=loaded.source,
+            field="analysis.output_interval",
+        )
+
+
+def _same_group_pairs(shapes: list, label: np.ndarray, distance: float) -> set[tuple[int, int]]:  # type: ignore[type-arg]
+    """Pairs of buildings of one group within `distance` (m): the check across groups skips them
+    (within a group, each group's own run checked its pruned pairs)."""
+    from ..assembly.levels import near_pairs
+
+    if not math.isfinite(distance) or distance <= 0:
+        return set()
+    return {(i, j) for i, j in near_pairs(shapes, distance) if label[i] == label[j]}
+
+
+class _executor:
+    """The sweeps' executors: a LocalPool of `jobs` processes, or a Dask client."""
+
+    def __init__(self, jobs: int | None, scheduler: str | None, scheduler_file: str | None):
+        self.args = (jobs, scheduler, scheduler_file)
+
+    def __enter__(self) -> Any:
+        import os
+
+        jobs, scheduler, scheduler_file = self.args
+        if scheduler or scheduler_file:
+            from ..sweep.cluster import DaskExecutor
+
+            self.executor = DaskExecutor.connect(scheduler, scheduler_file)
+        else:
+            from ..sweep.pool import LocalPool
+
+            self.executor = LocalPool(jobs or os.cpu_count() or 1)
+        return self.executor
+
+    def __exit__(self, *exc: object) -> None:
+        self.executor.close()

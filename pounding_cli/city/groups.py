@@ -1,0 +1,133 @@
+"""Independent groups: buildings that cannot reach each other, directly or through
+neighbours, are separate problems (issue 30).
+
+The groups are the connected components of the "may touch" graph, whose edges are the
+building pairs within reach (city/reach.py). Each group runs as a model of its own (its
+buildings, the same record, analysis and contact settings), on local processes or a Dask
+cluster (the sweeps' executors), and the results are merged into one RunResult: the
+buildings in the model's order, the contact candidates and impacts of every group (pair
+numbers renumbered), and the energies summed (independent systems' energies add).
+A group's time step is its own: the stiffest contact it can make sets it, not another
+group's. After the merge, the check of city/rerun.py runs across groups: two buildings of
+different groups must not have come within their measured excursions of touching.
+"""
+
+from __future__ import annotations
+
+import copy
+
+from pathlib import Path
+from typing import Any, Callable, Iterable
+
+import numpy as np
+
+from ..results.result import ContactResult, RunResult
+
+
+def components(n: int, pairs: Iterable[tuple[int, int]]) -> list[list[int]]:
+    """The connected components of the graph on n buildings with edges `pairs`, each sorted,
+    ordered by their first building."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    edges = np.array(sorted(pairs), dtype=np.int64).reshape(-1, 2)
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    groups: dict[int, list[int]] = {}
+    for k, g in enumerate(label):
+        groups.setdefault(int(g), []).append(k)
+    return sorted(groups.values(), key=lambda g: g[0])
+
+
+def group_document(document: dict[str, Any], members: list[int], reach: float) -> dict[str, Any]:
+    """The model document of one group: its buildings only, with the scene's reach fixed (so
+    that the group prunes as the whole scene would)."""
+    doc = copy.deepcopy(document)
+    doc["buildings"] = [doc["buildings"][k] for k in members]
+    doc.setdefault("contact", {})["reach"] = reach
+    return doc
+
+
+def run_group(document: dict[str, Any], source: str, strict: bool = False) -> RunResult:
+    """Validate, prepare and run one group's model (in a worker process); with `strict`, a
+    plausibility warning is an InputError, as for `pound run --strict`."""
+    from ..api import execute, prepare
+    from ..model import validate_model
+    from ..plausibility import strict_error
+
+    scene = prepare(validate_model(document, Path(source)))
+    if strict and scene.notices:
+        raise strict_error(list(scene.notices))
+    return execute(scene)
+
+
+def merge(results: list[RunResult], order: list[str], model_json: str, input_sha256: str) -> RunResult:
+    """One RunResult of the groups' results: buildings in `order`, contacts of all groups."""
+    first = results[0]
+    buildings = {}
+    for r in results:
+        buildings.update(r.buildings)
+    failed = [r.status for r in results if not r.complete]
+    diagnostics = dict(first.diagnostics)
+    for key in ("steps", "contact_steps", "cdm_steps", "exact_substeps", "contact_pairs", "storey_pairs", "impacts",
+                "impacts_logged", "n_dof", "wall_time_s", "compile_time_s", "contact_reach_reruns"):  # fmt: skip
+        if all(key in r.diagnostics for r in results):
+            diagnostics[key] = sum(r.diagnostics[key] for r in results)
+    diagnostics["dt"] = min(r.diagnostics["dt"] for r in results)
+    diagnostics["groups"] = len(results)
+    return RunResult(
+        time=first.time, ground_acceleration=first.ground_acceleration,
+        energy=np.sum([r.energy for r in results], axis=0),
+        buildings={name: buildings[name] for name in order},
+        status=failed[0] if failed else "complete", model_json=model_json, input_sha256=input_sha256,
+        diagnostics=diagnostics, contact=_merge_contact([r.contact for r in results]),
+        warnings=[w for r in results for w in r.warnings],
+    )  # fmt: skip
+
+
+def _merge_contact(parts: list[ContactResult]) -> ContactResult:
+    offsets = np.cumsum([0] + [c.pairs.size for c in parts])
+    events = []
+    for c, offset in zip(parts, offsets):
+        e = c.events.copy()
+        e["pair"] += offset
+        events.append(e)
+    events_all = np.concatenate(events)
+    events_all = events_all[np.argsort(events_all["t_start"], kind="stable")]
+
+    def stack(name: str) -> np.ndarray:
+        return np.concatenate([getattr(c, name) for c in parts], axis=1)
+
+    return ContactResult(
+        pairs=np.concatenate([c.pairs for c in parts]), normal_force=stack("normal_force"),
+        tangential_force=stack("tangential_force"), area=stack("area"), action_point=stack("action_point"),
+        depth=stack("depth"), events=events_all,
+        column_demand=np.concatenate([c.column_demand for c in parts]),
+    )  # fmt: skip
+
+
+def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], reach: float,
+               submit: Callable[[list[tuple[Any, Callable[..., Any], tuple[Any, ...]]]], Iterable[tuple[Any, bool, Any]]],
+               strict: bool = False) -> list[RunResult]:  # fmt: skip
+    """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out),
+    returning the results in group order; a group that could not run is an AnalysisFailed
+    naming it and the reason."""
+    from ..errors import AnalysisFailed
+
+    tasks = [(k, run_group, (group_document(document, g, reach), source, strict)) for k, g in enumerate(groups)]
+    out: dict[int, RunResult] = {}
+    for key, ok, value in submit(tasks):
+        if not ok:
+            raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
+                                 f"{', …' if len(groups[key]) > 3 else ''}) could not run: {value}")  # fmt: skip
+        out[key] = value
+    return [out[k] for k in range(len(groups))]
+
+
+def split_allowed(model) -> bool:  # type: ignore[no-untyped-def]
+    """Whether a model's buildings can run apart: no obstacles (fixed bodies shared by all)
+    and no building placed relative to another."""
+    return not model.all_obstacles() and all(getattr(b, "place", None) is None for b in model.buildings)
+
+
+
