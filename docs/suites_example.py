@@ -120,8 +120,8 @@ fraction of cases and the lognormal fit's:
 
 {verdicts(result)}
 At the roof pair the suite's median needs {mm(top['required']['median'])} mm and its 84th
-percentile {mm(top['required']['p84'])} mm: the 50 mm gap as built is met by
-{top['p_pound_empirical']:.0%} of the cases.
+percentile {mm(top['required']['p84'])} mm: the 50 mm gap as built is too narrow for
+{top['p_pound_empirical']:.0%} of the cases, which pound.
 
 Probability of pounding at wider gaps (cases / fit):
 
