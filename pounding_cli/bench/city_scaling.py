@@ -19,6 +19,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..atomic import write_text
 from ..city.block import Block, city_document, district_buildings
 from .scaling import table
 
@@ -52,7 +53,7 @@ def run_case(side: int, blocks: int, jobs: int, folder: Path) -> CityPoint:
     bx = int(round(blocks**0.5)) or 1
     buildings = district_buildings(Block(rows=side, cols=side), bx, -(-blocks // bx))[: blocks * side * side]
     model = folder / f"city_{len(buildings)}.toml"
-    model.write_text(tomli_w.dumps(city_document(buildings, f"{len(buildings)} buildings", record_dir=".")))
+    write_text(model, tomli_w.dumps(city_document(buildings, f"{len(buildings)} buildings", record_dir=".")))
     out = folder / f"city_{len(buildings)}.h5"
     args = [sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(out), "--force", "--json"]
     args += ["--jobs", str(jobs)] if jobs > 1 else []

@@ -20,6 +20,7 @@ and the field (see :class:`RecordOrigin`).
 from __future__ import annotations
 
 import hashlib
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -119,13 +120,15 @@ def record_motion(record: Record, origin: RecordOrigin) -> RecordMotion:
 def _read_component(name: str, spec: RecordComponent, origin: RecordOrigin) -> tuple[Accelerogram, str]:
     """One component as read from its file (m/s²), and the file's sha256."""
     path = origin.resolve(spec.file)
+    given = Path(os.path.normpath(origin.folder / spec.file))  # as the definition names it (no links followed)
+    link = f" ({given} is a link to {path})" if path != given else ""
     try:
         record = read_accelerogram(path, trace=spec.trace, units=spec.units, format=spec.format, dt=spec.dt)
         digest = hashlib.sha256(read_regular(path, MAX_RECORD_BYTES)).hexdigest()
     except FileRefused as exc:
-        raise origin.error(f"{name}.file", f"{path}: {exc.reason}") from None
+        raise origin.error(f"{name}.file", f"{path}: {exc.reason}{link}") from None
     except RecordReadError as exc:
-        raise origin.error(f"{name}.{exc.field}", str(exc)) from None
+        raise origin.error(f"{name}.{exc.field}", f"{exc}{link}") from None
     return record, digest
 
 
