@@ -110,6 +110,8 @@ def check_regular(path: str | Path, limit: int) -> int:
 
 def _open(path: Path) -> int:
     """A read-only descriptor of `path` that never blocks on opening (a FIFO without writer)."""
+    if "\x00" in str(path):
+        raise FileRefused("no such file: the name holds a NUL character, which no file name can")
     try:
         return os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_NOCTTY", 0))
     except FileNotFoundError:
@@ -135,5 +137,5 @@ def resolve_in(folder: Path, relative: str | Path) -> Path:
     path = Path(folder) / relative
     try:
         return path.resolve()
-    except (OSError, RuntimeError):  # a loop of links
+    except (OSError, RuntimeError, ValueError):  # a loop of links; a NUL in the name (the reader refuses it)
         return path

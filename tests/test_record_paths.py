@@ -153,3 +153,13 @@ def test_missing_record_file_given_to_pound_record(project, monkeypatch):
     monkeypatch.chdir(project / "elsewhere")
     message = refused("record", "nowhere/quake.AT2")
     assert "nowhere/quake.AT2: no such file" in message
+
+
+def test_a_component_file_name_with_a_nul_is_refused(tmp_path):
+    """A component's file name holding a NUL (the record fuzzer drew one) is no file name at all:
+    exit 2 naming the field, not a crash in the path's resolution."""
+    definition = tmp_path / "nul.record.toml"
+    definition.write_text('[L]\nfile = "a\\u0000b.txt"\ndt = 0.01\nunits = "g"\n')
+    result = runner.invoke(app, ["record", str(definition)], env={"POUND_DEBUG": "1", "COLUMNS": "200"})
+    assert result.exit_code == 2, result.stderr
+    assert "L.file" in result.stderr and "NUL" in result.stderr
