@@ -77,13 +77,10 @@ def pseudo_acceleration(
 def peak_displacement(acceleration: np.ndarray, dt: float, omega: np.ndarray, zeta: float | np.ndarray = DAMPING) -> np.ndarray:
     """max|u| (m) of oscillators of circular frequencies `omega` (rad/s) and damping ratios
     `zeta` (one, or one each), from rest, under `acceleration` (m/s²)."""
+    from .spectrum_kernel import peak_displacements
+
     omega = np.asarray(omega, dtype=np.float64)
-    a, b, c, d, a1, b1, c1, d1 = coefficients(omega, zeta, dt)  # type: ignore[arg-type]
-    p = -np.asarray(acceleration, dtype=np.float64)
-    u = np.zeros_like(omega)
-    v = np.zeros_like(omega)
-    peak = np.zeros_like(omega)
-    for i in range(p.size - 1):  # one pass over time, every period at once; no history kept
-        u, v = a * u + b * v + c * p[i] + d * p[i + 1], a1 * u + b1 * v + c1 * p[i] + d1 * p[i + 1]
-        np.maximum(peak, np.abs(u), out=peak)
-    return peak
+    coef = np.array(np.broadcast_arrays(*coefficients(omega, zeta, dt)), dtype=np.float64)  # type: ignore[arg-type]
+    peak = np.zeros(omega.size)
+    peak_displacements(-np.ascontiguousarray(acceleration, dtype=np.float64), coef.reshape(8, -1), peak)
+    return peak.reshape(omega.shape)

@@ -66,12 +66,7 @@ def check_period(period: float, dt: float, where: str, source: object) -> None:
 
 def pseudo_acceleration_at(acceleration: np.ndarray, dt: float, period: float, zeta: float = 0.05) -> float:
     """PSA(T) = ω²·max|u| (m/s²) of one oscillator of period T (s), damping ζ, under ground
-    acceleration `acceleration` (m/s²) sampled every dt: the exact piecewise-linear recurrence
-    of records.spectrum, compiled."""
-    from ..records.spectrum import coefficients
+    acceleration `acceleration` (m/s²) sampled every dt: records.spectrum's exact recurrence."""
+    from ..records.spectrum import pseudo_acceleration
 
-    omega = 2.0 * math.pi / period
-    coef = np.array([float(np.ravel(c)[0]) for c in coefficients(np.array([omega]), zeta, dt)])
-    from .kernel import peak_displacement
-
-    return omega * omega * float(peak_displacement(np.ascontiguousarray(acceleration, dtype=np.float64), coef))
+    return float(pseudo_acceleration(acceleration, dt, np.array([period]), zeta)[0])
