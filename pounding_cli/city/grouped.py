@@ -29,6 +29,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     from ..plausibility import Notice
     from .groups import components, merge, run_groups, split_allowed
     from .reach import REACH_FACTOR, check_pruned, measured_excursions, scene_reach
+    from ..sweep.run import open_executor
 
     loaded = load_model(model)
     if not split_allowed(loaded.model):
@@ -41,7 +42,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
         return run_model(loaded, output, force=force, strict=strict, warn=warn)
     check_merged_memory(loaded, system, ground.duration, near, len(groups))
     check_output_path(output, force)
-    with _executor(jobs, scheduler, scheduler_file) as executor:
+    with open_executor(jobs, scheduler, scheduler_file) as executor:
         results = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance, executor.run,
                              strict)  # fmt: skip
     names = [b.name for b in system.buildings]
@@ -108,27 +109,3 @@ def _same_group_pairs(shapes: list, label: np.ndarray, distance: float) -> set[t
     if not math.isfinite(distance) or distance <= 0:
         return set()
     return {(i, j) for i, j in near_pairs(shapes, distance) if label[i] == label[j]}
-
-
-class _executor:
-    """The sweeps' executors: a LocalPool of `jobs` processes, or a Dask client."""
-
-    def __init__(self, jobs: int | None, scheduler: str | None, scheduler_file: str | None):
-        self.args = (jobs, scheduler, scheduler_file)
-
-    def __enter__(self) -> Any:
-        import os
-
-        jobs, scheduler, scheduler_file = self.args
-        if scheduler or scheduler_file:
-            from ..sweep.cluster import DaskExecutor
-
-            self.executor = DaskExecutor.connect(scheduler, scheduler_file)
-        else:
-            from ..sweep.pool import LocalPool
-
-            self.executor = LocalPool(jobs or os.cpu_count() or 1)
-        return self.executor
-
-    def __exit__(self, *exc: object) -> None:
-        self.executor.close()

@@ -66,7 +66,7 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
     current folder) and return the statistics (module docstring). `at`: gaps (m, ≥ 0) at
     which the probability of pounding is also given."""
     from ..model import load_model, read_document
-    from ..sweep.run import _executor
+    from ..sweep.run import open_executor
     from ..sweep.store import OutputFolder
 
     t0 = time.perf_counter()
@@ -82,7 +82,7 @@ def gap_suite(model: str | Path, suite: str | Path, output: str | Path | None = 
         model, folder = model.absolute(), OutputFolder(folder.root.absolute())
     _check_owner(folder.root, force)
     outcomes: dict[str, Any] = {}
-    with _executor(jobs, scheduler, scheduler_file, client) as executor:
+    with open_executor(jobs, scheduler, scheduler_file, client) as executor:
         with ThreadPoolExecutor(1) as thread:  # the model prepared and the suite resolved while the workers start
             preparing = thread.submit(_prepared, loaded, suite)
             for _ in executor.run([(k, _warm_up, ()) for k in range(getattr(executor, "jobs", 0))]):

@@ -120,7 +120,7 @@ def run_sweep(
         note = folder.check_owner(force)  # before anything is checked or written
         if note:
             say(note)
-    with _executor(jobs, scheduler, scheduler_file, client) as executor:
+    with open_executor(jobs, scheduler, scheduler_file, client) as executor:
         say(f"checking the cases of {loaded.source} on {executor.description}")
         checked = (lambda done, total: on_progress("check", done, 0, total)) if on_progress else None
         plan = plan_sweep(loaded, executor.run, checked, strict=strict)
@@ -244,8 +244,9 @@ def _check_studies(loaded: LoadedSweep, studies: list[str] | None) -> None:
 
 
 @contextmanager
-def _executor(jobs: int | None, scheduler: str | None, scheduler_file: str | Path | None, client: Any) -> Iterator[Any]:
-    """The local pool, or a Dask client (given, or connected to a scheduler), closed after."""
+def open_executor(jobs: int | None, scheduler: str | None, scheduler_file: str | Path | None, client: Any = None) -> Iterator[Any]:
+    """The local pool, or a Dask client (given, or connected to a scheduler), closed after: what
+    sweeps, `pound gap --suite` and a run's independent groups (city/grouped.py) run on."""
     from .cluster import DaskExecutor
 
     if client is not None:
