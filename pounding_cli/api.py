@@ -47,7 +47,6 @@ from .model import Analysis, LoadedModel, load_model
 from .model.placement import stored_json
 from .results import RunResult, collect, write_hdf5
 from .results.forces import system_forces
-from .solver import simulate
 from .solver.tunables import MAX_RERUNS, RERUN_MARGIN
 
 G = 9.80665
@@ -500,6 +499,8 @@ def execute(
     ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
     local_system, local_contact = local_origin(system, scene.contact, ref)
     gauges = force_gauges(local_system, ref)
+
+    from .solver import simulate  # the integrator (numba, the kernels) loads here, not at import
 
     def integrate(grid: TimeGrid) -> Any:
         return back_to_global(simulate(

@@ -647,6 +647,9 @@ def bench(
     blocks: Annotated[
         bool, typer.Option("--blocks", help="With --scaling: whole `pound run` cost of city blocks of 9, 25, 100 buildings and 10 blocks with --jobs 2 (city-scaling.md).")
     ] = False,
+    start: Annotated[
+        bool, typer.Option("--start", help="Time pound's commands from cold processes (median of --repeats, at least 5) and break a run's time down by stage: numba's start-up against pound's own (start.md).")
+    ] = False,
     json_: JsonOpt = False,
 ) -> None:
     """Measure run time against error."""
@@ -654,6 +657,18 @@ def bench(
     from .bench.report import markdown, plot, table_rows, write_hdf5
     from .bench.run import QUICK_SETTINGS
 
+    if start:
+        from dataclasses import asdict
+
+        from .bench.start import markdown as start_markdown, start_times
+
+        with reported():
+            out_dir.mkdir(parents=True, exist_ok=True)
+            report = start_times(max(repeats, 5), log=lambda text: err.print(text, markup=False))
+            text = start_markdown(report)
+            write_text(out_dir / "start.md", text)
+        print(json.dumps({**asdict(report), "numba_s": report.numba_s}, indent=2)) if json_ else out.print(text, markup=False)
+        return
     if scaling:
         if blocks:
             from .bench.city_scaling import city_scaling as measure, markdown as table

@@ -73,7 +73,7 @@ def test_free_vibration_damping_work_is_the_closed_form(omega_h):
     relative: the sums of a few hundred steps' rounding."""
     from pounding_cli.assembly import assemble
     from pounding_cli.solver import simulate
-    from pounding_cli.solver.cdm import ENERGY_NAMES
+    from pounding_cli.solver.layout import ENERGY_NAMES
     from pounding_cli.solver.integrate import damping_blocks, stiffness_blocks
 
     system = assemble(load_doc(model_doc(square_building(storeys=1))))

@@ -470,7 +470,7 @@ def likely_contact_line(poly_a: np.ndarray, poly_b: np.ndarray, depth: float = L
 def observed_contact_omega(contact: ContactArrays, events: np.ndarray) -> float:
     """The fastest contact vibration a run met, rad/s: √(max(k_N·ℓ, k_T)·mobility) of each
     logged impact, ℓ its longest contact line (solver column EV_PEAK_LENGTH)."""
-    from ..solver.contact import EV_PAIR, EV_PEAK_LENGTH
+    from ..solver.layout import EV_PAIR, EV_PEAK_LENGTH
 
     if events.shape[0] == 0 or contact.n_pairs == 0:
         return 0.0

@@ -98,7 +98,7 @@ def back_to_global(response, ref: np.ndarray):  # type: ignore[no-untyped-def]
     a pair is in contact) moved back by +ref."""
     if not np.any(ref):
         return response
-    from ..solver import contact as kernel
+    from ..solver import layout as kernel
 
     events = response.events.copy()
     if events.shape[0]:

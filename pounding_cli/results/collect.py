@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..assembly import BuildingArrays, ContactArrays, System
-from ..solver import Response
-from ..solver import contact as kernel
+from ..solver import layout as kernel
 from .column_demand import column_demand
 from .forces import SystemForces, force_result
 from .result import EVENT_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult, YieldingResult
+
+if TYPE_CHECKING:  # the integrator (and numba) load when a run needs them
+    from ..solver.integrate import Response
 
 
 def yielding_result(bld: BuildingArrays, response: Response, offset: int) -> YieldingResult | None:

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from ..solver import ENERGY_NAMES
+from ..solver.layout import ENERGY_NAMES
 
 
 MEMBER_DTYPE = np.dtype(

@@ -32,15 +32,12 @@ from __future__ import annotations
 
 import numpy as np
 from .jit import INTERNAL, REASSOCIATE, kernel, phase
-
+from .layout import E_BALANCE, E_CONTACT, E_DAMPING, E_HYSTERETIC, E_INPUT, E_KINETIC, E_STRAIN
 from .storey_bodies import forces_with_storeys
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
 from .peaks import update_peaks
 from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
 
-# energy columns, in the order of the HDF5 /energy dataset
-E_INPUT, E_KINETIC, E_STRAIN, E_DAMPING, E_HYSTERETIC, E_CONTACT, E_BALANCE = range(7)
-ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "contact", "balance_error")
 
 # accumulators carried between calls: input, damping and contact energy, their last powers,
 # the number of steps with a contact, and a flag "no earlier power to integrate from" (set at

@@ -58,6 +58,34 @@ from .broad_phase import (
     reach_over,
 )
 from .jit import INTERNAL, kernel, phase
+from .layout import (  # noqa: F401 (the layout is read through this module too)
+    EV_COLUMNS,
+    EV_FT_PEAK,
+    EV_IMPULSE,
+    EV_NX,
+    EV_NY,
+    EV_PAIR,
+    EV_PEAK_AREA,
+    EV_PEAK_DEPTH,
+    EV_PEAK_FN,
+    EV_PEAK_LENGTH,
+    EV_SLID,
+    EV_SLIPS,
+    EV_T_END,
+    EV_T_PEAK,
+    EV_T_SLIP,
+    EV_T_START,
+    EV_T_STICK,
+    EV_X,
+    EV_Y,
+    NOW_AREA,
+    NOW_COLUMNS,
+    NOW_DEPTH,
+    NOW_FN,
+    NOW_FT,
+    NOW_X,
+    NOW_Y,
+)
 from .records import ClipWork
 from .tunables import CLOSING_SAFETY
 
@@ -91,22 +119,6 @@ ST_EXCESS, ST_VT = ST_REST + 8, ST_REST + 9
 N_STATE = ST_REST + 10
 FRAME_VERTICES = RESULT_SIZE
 """Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
-# per-pair current values (also what is stored at the output interval)
-NOW_FN, NOW_FT, NOW_AREA, NOW_X, NOW_Y, NOW_DEPTH = range(6)
-NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
-# impact log columns; EV_PEAK_FN: the episode's peak normal force, the crest of the parabola
-# through the three steps around its largest sample (crest); EV_T_PEAK, EV_X, EV_Y,
-# EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A into B) are taken at the step of the
-# largest sample; EV_PEAK_LENGTH: the longest
-# contact line of the episode, m (its normal stiffness k_N·length: the automatic contact step
-# is checked against it, assembly/contact.py: observed_contact_omega)
-EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
-EV_FT_PEAK, EV_NX, EV_NY, EV_PEAK_LENGTH = range(11, 15)
-# EV_T_SLIP: where the contact first slipped (t_start if from the touch), EV_T_STICK: where its
-# last slip ended (NaN: never slipped, or slipping to the end), EV_SLIPS: how many slip phases;
-# these and t_start, t_end are located inside their steps (docs/theory.md, "Events inside the step")
-EV_T_SLIP, EV_T_STICK, EV_SLIPS = range(15, 18)
-EV_COLUMNS = 18
 
 
 @kernel(inline="always")
