@@ -160,7 +160,7 @@ def markdown(report: StartReport) -> str:
         ["command", "median s", "fastest s", "slowest s"],
         [[c.command, f"{c.median_s:.2f}", f"{c.low_s:.2f}", f"{c.high_s:.2f}"] for c in report.commands],
     )
-    rows = [[text, f"{report.stages[key]:.3f}", "numba" if key in NUMBA_STAGES else "pound"] for key, text in STAGES]
+    rows = [[text, f"{report.stages[key]:.3f}", "numba" if key in NUMBA_STAGES else "pound, its libraries"] for key, text in STAGES]
     rows.append(["the interpreter's start and exit (the process's wall time less the stages)",
                  f"{report.stages['interpreter']:.3f}", "Python"])  # fmt: skip
     stages = table(["stage of `pound run` (bench scene paper_pounding)", "median s", "whose"], rows)
