@@ -5,8 +5,7 @@ Every measurement is a fresh interpreter started as a user starts pound (`python
 pounding_cli …`, from a scratch folder, the kernels already in numba's cache: one untimed run
 first fills it). The commands are timed whole, wall clock, median of the repeats. The
 breakdown repeats the work of `pound run` on the bench's pounding scene stage by stage in a
-child of its own (with pound's garbage-collector settings, pounding_cli/__main__.py), timing
-each stage: numba's stages (its import, its CPU target's start-up,
+child of its own, timing each stage: numba's stages (its import, its CPU target's start-up,
 which the first cached kernel of a process pays, and loading the time loop's kernels) are
 what no change inside pound can remove; the rest is pound's.
 """
@@ -50,9 +49,7 @@ NUMBA_STAGES = ("numba", "target", "kernels")
 _BREAKDOWN = r"""
 import time
 t0 = time.perf_counter()
-import gc, sys, json
-from pounding_cli.__main__ import START_GC_THRESHOLDS
-gc.set_threshold(*START_GC_THRESHOLDS)
+import sys, json
 marks = {}
 def mark(name):
     global t0
@@ -84,7 +81,6 @@ marks["kernels"] = d["compile_time_s"]
 marks["solve"] = d["wall_time_s"]
 marks["write"] = total - d["compile_time_s"] - d["wall_time_s"]
 print(json.dumps(marks))
-gc.freeze()  # as pound's own exit does
 """
 
 
