@@ -282,33 +282,6 @@ def unmet_neighbours(scene: "Scene") -> Iterator[Notice]:
             "base_elevation and storey heights"))  # fmt: skip
 
 
-def tangential_dashpot(scene: "Scene") -> Iterator[Notice]:
-    """A tangential dashpot (damping_tangential of [contact], an obstacle or a moat wall) on a
-    contact with friction: with it the stick–slip switching does not converge at the contact
-    steps pound takes, and the peaks at the automatic step can be off by their own size
-    (docs/bench.md, "A tangential dashpot"). Said once per field that sets one."""
-    from .assembly.contact import _obstacle_root
-
-    contact, model = scene.contact, scene.loaded.model
-    fixed = np.flatnonzero(contact.body_floor < 0)  # the obstacles (and moat walls), in all_obstacles() order
-    said: set[str] = set()
-    for i in range(len(contact.pairs)):
-        if contact.pair_ct[i] <= 0.0 or contact.pair_mu_s[i] <= 0.0:
-            continue
-        b = int(contact.pair_b[i])
-        o = b - int(fixed[0]) if contact.body_floor[b] < 0 else -1
-        own = o >= 0 and "damping_tangential" in model.all_obstacles()[o].overrides()
-        field = f"{_obstacle_root(model, o)}.damping_tangential" if own else "contact.damping_tangential"
-        if field in said:
-            continue
-        said.add(field)
-        yield Notice(str(scene.loaded.source), field, (
-            f"a tangential dashpot (c_T = {contact.pair_ct[i]:.4g} N·s/m) makes the friction's stick–slip switching "
-            "converge only at far smaller contact steps than the automatic one, if at all: the paper's Kobe example "
-            "with 2e4 N·s/m is off by over 100 % at the automatic step and still at 1/64 of it (docs/bench.md, "
-            "\"A tangential dashpot\"); leave it out, or check the peaks against a run at a smaller analysis.dt"))  # fmt: skip
-
-
 def _times(ratio: float) -> str:
     """'1,000', '250', '3.2e+07': a ratio above 1 as a reader says it."""
     return f"{ratio:,.0f}" if 10 <= ratio < 1e6 else f"{ratio:.3g}"
@@ -340,7 +313,6 @@ CHECKS: list[Check] = [
     peak_ground_acceleration,
     vertical_component,
     impact_stiffness,
-    tangential_dashpot,
     unmet_neighbours,
 ]
 """The checks, in the order their notices are reported; append one to add a check."""

@@ -169,25 +169,6 @@ def test_impact_stiffness_by_hand_far_from_the_materials(factor: float, word: st
     assert "contact.k_tangential" not in found
 
 
-def test_a_tangential_dashpot_is_said_once_per_field_that_sets_it() -> None:
-    """The stick–slip switching does not converge with a tangential dashpot at the steps pound
-    takes (docs/bench.md, "A tangential dashpot"): [contact]'s and a moat wall's own are named
-    apart; without friction there is no switching to warn of."""
-    doc = short(load_doc_dict("paper_pounding.toml"))
-    doc["contact"]["damping_tangential"] = 2e4
-    found = fields_of(doc)
-    assert "a tangential dashpot (c_T = 2e+04 N·s/m)" in found["contact.damping_tangential"], found
-    assert "A tangential dashpot" in found["contact.damping_tangential"]
-    doc["contact"].update(friction_static=0.0, friction_kinetic=0.0)
-    assert "contact.damping_tangential" not in fields_of(doc)
-
-    moat = short(load_doc_dict("isolated_moat.toml"))
-    moat["buildings"][0]["isolation"]["moat"]["damping_tangential"] = 1e5
-    found = fields_of(moat)
-    assert list(k for k in found if k.endswith("damping_tangential")) == ["buildings[0].isolation.moat.damping_tangential"]
-    assert "c_T = 1e+05 N·s/m" in found["buildings[0].isolation.moat.damping_tangential"]
-
-
 def load_doc_dict(name: str) -> dict:
     return read_document(INPUTS / name)
 

@@ -62,9 +62,10 @@ class Contact(Strict):
     """Normal dashpot coefficient c_N, N·s/m, instead of `restitution`."""
 
     damping_tangential: Annotated[Real, Field(gt=0)] | None = None
-    """Tangential dashpot coefficient c_T, N·s/m, in parallel with the friction spring. With
-    friction, pound's solution of the stick–slip switching does not converge at the contact steps
-    it takes when c_T is given (docs/bench.md, "A tangential dashpot"): a run warns of it."""
+    """Tangential dashpot coefficient c_T, N·s/m, beside the friction spring: the two in series
+    with Coulomb's slider, so that while the contact slips the spring relaxes towards the
+    friction force with the time constant c_T/k_T (docs/theory.md, "The tangential dashpot");
+    absent: none (the paper's choice)."""
 
     reach: Annotated[Real, Field(gt=0)] | None = None
     """Reach, m: two buildings whose outlines at rest lie farther apart in plan than this get
@@ -112,9 +113,7 @@ class ImpactOverrides(Strict):
     default: [contact]'s normal dashpot."""
 
     damping_tangential: Annotated[Real, Field(gt=0)] | None = None
-    """Tangential dashpot coefficient c_T against this body, N·s/m; default: [contact]'s. A run
-    with one warns that its stick–slip switching does not converge (docs/bench.md, "A tangential
-    dashpot")."""
+    """Tangential dashpot coefficient c_T against this body, N·s/m; default: [contact]'s."""
 
     @model_validator(mode="after")
     def _consistent_overrides(self) -> "ImpactOverrides":
