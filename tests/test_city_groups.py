@@ -85,3 +85,41 @@ def test_groups_whose_merged_results_would_not_fit_are_refused_before_they_run(t
     assert "analysis.output_interval: the merged results of its 2 independent groups would hold about" in done.stderr
     assert "POUND_MAX_MEMORY_GB" in done.stderr and "Traceback" not in done.stderr
     assert not (tmp_path / "out.h5").exists()
+
+
+def _warning_lines(stderr: str, model: Path) -> list[str]:
+    """The plausibility warnings of a run's stderr, one per line (`FILE: field: message`),
+    without --strict's closing remark."""
+    return [line.split(" (--strict:")[0] for line in stderr.splitlines() if line.startswith(f"{model}: ")]
+
+
+def test_groups_warn_as_the_whole_run_does_and_strict_refuses_with_exit_2(tmp_path):
+    """A modulus typed in MPa (a plausibility warning on the material and on every building's
+    period): `pound run --jobs 2` prints the warnings the whole run prints, fields named as in
+    the whole model (buildings[7], not the second group's buildings[3]), each once, in the
+    same order; with --strict both refuse with exit 2 and the same lines, nothing written.
+    (Before, the groups' warnings were not shown, and --strict inside a worker ended the run
+    with exit 1 and group-local field names.)"""
+    doc = city_document(district_buildings(Block(rows=2, cols=2), 2, 1), "two blocks",
+                        record_dir=str(REPO / "inputs" / "records"), duration=2.0)  # fmt: skip
+    for material in doc["materials"].values():
+        material["elastic_modulus"] = 21000.0
+    model = tmp_path / "mpa.toml"
+    model.write_text(tomli_w.dumps(doc))
+
+    def pound(*args):
+        return subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(model), *args], capture_output=True,
+                              text=True, cwd=tmp_path)  # fmt: skip
+
+    whole, groups = pound("-o", "whole.h5"), pound("-o", "groups.h5", "--jobs", "2")
+    assert whole.returncode == groups.returncode == 0, (whole.stderr, groups.stderr)
+    expected = _warning_lines(whole.stderr, model)
+    assert len(expected) == 9 and expected[0].startswith(f"{model}: materials.concrete.elastic_modulus: ")
+    assert f"{model}: buildings[7]: " in expected[-1]
+    assert _warning_lines(groups.stderr, model) == expected
+    for args in (["-o", "strict-whole.h5", "--strict"], ["-o", "strict-groups.h5", "--strict", "--jobs", "2"]):
+        refused = pound(*args)
+        assert refused.returncode == 2, refused.stderr
+        assert _warning_lines(refused.stderr, model) == expected
+        assert "--strict: 9 plausibility warnings made errors" in refused.stderr
+        assert not (tmp_path / args[1]).exists()

@@ -18,7 +18,8 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
                   warn: Callable[[Any], None] | None = None) -> RunResult:  # fmt: skip
     """Run `model` as its independent groups in parallel and write one HDF5 file; a model of
     one group (or one that cannot be split: obstacles, buildings placed by others) runs as
-    `pound run` does. After the merge, buildings of different groups must not have come
+    `pound run` does. The groups' plausibility warnings go to `warn` (named as in the whole
+    model; with `strict`, an InputError, nothing written). After the merge, buildings of different groups must not have come
     within their measured excursions of touching; if two could have, the scene runs again
     whole, with a reach that holds them, and says so."""
     from ..api import check_output_path, input_sha256, run_model, write_results
@@ -43,8 +44,10 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     check_merged_memory(loaded, system, ground.duration, near, len(groups))
     check_output_path(output, force)
     with open_executor(jobs, scheduler, scheduler_file) as executor:
-        results = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance, executor.run,
-                             strict)  # fmt: skip
+        results, found = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance,
+                                    executor.run, strict)  # fmt: skip
+    for notice in found if warn is not None else ():
+        warn(notice)
     names = [b.name for b in system.buildings]
     merged = merge(results, names, stored_json(loaded.model), input_sha256(loaded, ground))
     label = np.empty(len(names), dtype=np.int64)

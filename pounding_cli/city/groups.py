@@ -15,12 +15,14 @@ different groups must not have come within their measured excursions of touching
 from __future__ import annotations
 
 import copy
-
+import re
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
 import numpy as np
 
+from ..plausibility import Notice
 from ..results.result import ContactResult, RunResult
 
 
@@ -48,17 +50,33 @@ def group_document(document: dict[str, Any], members: list[int], reach: float) -
     return doc
 
 
-def run_group(document: dict[str, Any], source: str, strict: bool = False) -> RunResult:
-    """Validate, prepare and run one group's model (in a worker process); with `strict`, a
-    plausibility warning is an InputError, as for `pound run --strict`."""
+def run_group(document: dict[str, Any], source: str, members: list[int], strict: bool = False
+              ) -> tuple[RunResult | None, list[Notice]]:  # fmt: skip
+    """Validate, prepare and run one group's model (in a worker process): (its result, its
+    plausibility warnings, their fields named as in the whole model: whole_model_notice). With
+    `strict`, a group with warnings does not run (None): the whole run is refused, as
+    `pound run --strict` refuses it."""
     from ..api import execute, prepare
     from ..model import validate_model
-    from ..plausibility import strict_error
 
     scene = prepare(validate_model(document, Path(source)))
-    if strict and scene.notices:
-        raise strict_error(list(scene.notices))
-    return execute(scene)
+    found = [whole_model_notice(n, members) for n in scene.notices]
+    if strict and found:
+        return None, found
+    result = execute(scene)
+    result.warnings = [n.as_dict() for n in found]
+    return result, found
+
+
+def whole_model_notice(notice: Notice, members: list[int]) -> Notice:
+    """A group's notice with its field named in the whole model: the group's document holds
+    buildings `members` of it, in that order, so its `buildings[k]` is the model's
+    `buildings[members[k]]`; other fields (materials, contact, excitation) are the model's."""
+    match = re.match(r"buildings\[(\d+)\]", notice.field)
+    if match is None:
+        return notice
+    field = f"buildings[{members[int(match.group(1))]}]" + notice.field[match.end():]
+    return replace(notice, field=field)
 
 
 def merge(results: list[RunResult], order: list[str], model_json: str, input_sha256: str) -> RunResult:
@@ -81,7 +99,7 @@ def merge(results: list[RunResult], order: list[str], model_json: str, input_sha
         buildings={name: buildings[name] for name in order},
         status=failed[0] if failed else "complete", model_json=model_json, input_sha256=input_sha256,
         diagnostics=diagnostics, contact=_merge_contact([r.contact for r in results]),
-        warnings=[w for r in results for w in r.warnings],
+        warnings=list({tuple(w.values()): w for r in results for w in r.warnings}.values()),  # each once
     )  # fmt: skip
 
 
@@ -108,20 +126,26 @@ def _merge_contact(parts: list[ContactResult]) -> ContactResult:
 
 def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], reach: float,
                submit: Callable[[list[tuple[Any, Callable[..., Any], tuple[Any, ...]]]], Iterable[tuple[Any, bool, Any]]],
-               strict: bool = False) -> list[RunResult]:  # fmt: skip
-    """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out),
-    returning the results in group order; a group that could not run is an AnalysisFailed
-    naming it and the reason."""
+               strict: bool = False) -> tuple[list[RunResult], list[Notice]]:  # fmt: skip
+    """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out):
+    the results in group order, and the plausibility warnings of all groups (run_group), each
+    once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
+    and the reason; with `strict`, warnings are the InputError `pound run --strict` gives, once
+    every group has answered (the groups without any may have run by then; nothing is written)."""
     from ..errors import AnalysisFailed
+    from ..plausibility import strict_error
 
-    tasks = [(k, run_group, (group_document(document, g, reach), source, strict)) for k, g in enumerate(groups)]
-    out: dict[int, RunResult] = {}
+    tasks = [(k, run_group, (group_document(document, g, reach), source, g, strict)) for k, g in enumerate(groups)]
+    out: dict[int, tuple[RunResult | None, list[Notice]]] = {}
     for key, ok, value in submit(tasks):
         if not ok:
             raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
                                  f"{', …' if len(groups[key]) > 3 else ''}) could not run: {value}")  # fmt: skip
         out[key] = value
-    return [out[k] for k in range(len(groups))]
+    found = list(dict.fromkeys(n for k in range(len(groups)) for n in out[k][1]))
+    if strict and found:
+        raise strict_error(found)
+    return [out[k][0] for k in range(len(groups))], found  # type: ignore[misc]
 
 
 def split_allowed(model) -> bool:  # type: ignore[no-untyped-def]
