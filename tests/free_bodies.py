@@ -94,7 +94,7 @@ def momenta(structure, displacement: np.ndarray, velocity: np.ndarray) -> np.nda
 def contact_force(structure, contact, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The solver's contact kernel at one configuration q (n_dof,) of the free slabs, at rest:
     (generalized forces on the slabs (n_dof,): F_x, F_y and the moment about each displaced
-    mass centre, N and N·m; per-pair values (n_pairs, 6) as contact.NOW_COLUMNS). A fresh
+    mass centre, N and N·m; per-pair values (n_pairs, 6) as layout.NOW_COLUMNS). A fresh
     contact state each call, velocities zero: no dashpot force and no friction increment,
     only the normal law F_N = k_N·A_c at the overlap's centroid (a vanishing step, 1e-12 s:
     the midpoint rule's corrections where points touch or part scale with the step)."""

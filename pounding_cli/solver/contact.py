@@ -79,7 +79,6 @@ from .layout import (  # noqa: F401 (the layout is read through this module too)
     EV_X,
     EV_Y,
     NOW_AREA,
-    NOW_COLUMNS,
     NOW_DEPTH,
     NOW_FN,
     NOW_FT,

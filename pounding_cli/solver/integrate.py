@@ -17,6 +17,7 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
+from .layout import EV_COLUMNS, NOW_COLUMNS
 from .peaks import KEPT_ROWS, between_arrays, crest_arrays, crest_series_order
 from .propagator import building_propagators, state_matrix
 from .records import (
@@ -192,8 +193,8 @@ class Response:
     peak_storey_rotation: np.ndarray  # (n_storeys,) peak |Δθ|, rad
     peak_displacement: np.ndarray  # (n_dof,) peak |u|
     peak_acceleration: np.ndarray  # (n_dof,) peak absolute |a|
-    contact: np.ndarray  # (n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS
-    events: np.ndarray  # (n_events, contact.EV_COLUMNS) impact log rows
+    contact: np.ndarray  # (n_out, n_pairs, 6) per pair, columns layout.NOW_COLUMNS
+    events: np.ndarray  # (n_events, layout.EV_COLUMNS) impact log rows
     events_total: int  # episodes, including any beyond MAX_EVENTS
     contact_steps: int  # steps in which some pair was in contact
     dt: float
@@ -399,7 +400,7 @@ def simulate(
     n_pairs = c.pair_a.size
     out = Output(*(np.full((n_out, n_dof), np.nan) for _ in range(3)), np.full((n_out, 2), np.nan),
                  np.full((n_out, 7), np.nan),
-                 np.full((n_out, n_pairs, len(contact_kernel.NOW_COLUMNS)), np.nan),
+                 np.full((n_out, n_pairs, len(NOW_COLUMNS)), np.nan),
                  np.full((n_out, n_dof), np.nan))  # fmt: skip
     contact_rec = contact_state(c, n_dof, sweep)
     counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
@@ -531,8 +532,8 @@ def contact_state(contact: ContactData, n_dof: int, sweep: bool | None = None) -
                 c.pair_meff),  # fmt: skip
         sweep_arrays(c.pair_a, c.pair_b, c.body_floor, box, sweep),
         np.zeros((n_pairs, contact_kernel.N_STATE)),
-        np.zeros((n_pairs, len(contact_kernel.NOW_COLUMNS))),
-        np.zeros((MAX_EVENTS if n_pairs else 1, contact_kernel.EV_COLUMNS)),
+        np.zeros((n_pairs, len(NOW_COLUMNS))),
+        np.zeros((MAX_EVENTS if n_pairs else 1, EV_COLUMNS)),
         np.zeros(1, dtype=np.int64),
         np.zeros(n_dof + 3 + 3 * n_storeys),
         np.zeros(n_dof + 3),

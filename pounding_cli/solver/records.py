@@ -195,7 +195,7 @@ class Output(NamedTuple):
     energy: np.ndarray
     """(n_out, 7) J, columns cdm.ENERGY_NAMES"""
     contact: np.ndarray
-    """(n_out, n_pairs, 6) per pair, columns contact.NOW_COLUMNS"""
+    """(n_out, n_pairs, 6) per pair, columns layout.NOW_COLUMNS"""
     floor_contact: np.ndarray
     """(n_out, n_dof) the contact forces on the floors, N and N·m (Contact.force)"""
 
@@ -310,9 +310,9 @@ class Contact(NamedTuple):
     state: np.ndarray
     """(n_pairs, contact.N_STATE) each pair's episode so far (contact.ST_*)"""
     now: np.ndarray
-    """(n_pairs, 6) each pair's force, area, action point and depth now (contact.NOW_COLUMNS)"""
+    """(n_pairs, 6) each pair's force, area, action point and depth now (layout.NOW_COLUMNS)"""
     events: np.ndarray
-    """(max_events, contact.EV_COLUMNS) the impact log, one row per episode"""
+    """(max_events, layout.EV_COLUMNS) the impact log, one row per episode"""
     n_events: np.ndarray
     """(1,) episodes so far (beyond max_events: counted, not logged)"""
     force: np.ndarray
