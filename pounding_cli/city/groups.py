@@ -55,11 +55,17 @@ def run_group(document: dict[str, Any], source: str, members: list[int], strict:
     """Validate, prepare and run one group's model (in a worker process): (its result, its
     plausibility warnings, their fields named as in the whole model: whole_model_notice). With
     `strict`, a group with warnings does not run (None): the whole run is refused, as
-    `pound run --strict` refuses it."""
+    `pound run --strict` refuses it. A group its own set-up refuses (an InputError: the
+    resource limits) does not run either: (None, [that refusal as a notice])."""
     from ..api import execute, prepare
+    from ..errors import InputError
     from ..model import validate_model
 
-    scene = prepare(validate_model(document, Path(source)))
+    try:
+        scene = prepare(validate_model(document, Path(source)))
+    except InputError as refused:  # the resource limits, a group's own: the parent raises it (exit 2)
+        return None, [whole_model_notice(Notice(refused.file or source, refused.field or "", refused.message),
+                                         members)]  # fmt: skip
     found = [whole_model_notice(n, members) for n in scene.notices]
     if strict and found:
         return None, found
@@ -130,9 +136,10 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
     """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out):
     the results in group order, and the plausibility warnings of all groups (run_group), each
     once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
-    and the reason; with `strict`, warnings are the InputError `pound run --strict` gives, once
-    every group has answered (the groups without any may have run by then; nothing is written)."""
-    from ..errors import AnalysisFailed
+    and the reason, one its set-up refused the InputError it gave (exit 2); with `strict`,
+    warnings are the InputError `pound run --strict` gives, once every group has answered (the
+    groups without any may have run by then; nothing is written)."""
+    from ..errors import AnalysisFailed, InputError
     from ..plausibility import strict_error
 
     tasks = [(k, run_group, (group_document(document, g, reach), source, g, strict)) for k, g in enumerate(groups)]
@@ -142,6 +149,10 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
             raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
                                  f"{', …' if len(groups[key]) > 3 else ''}) could not run: {value}")  # fmt: skip
         out[key] = value
+    for k in range(len(groups)):
+        result, said = out[k]
+        if result is None and not strict:  # refused by its own set-up
+            raise InputError(said[0].message, file=said[0].file, field=said[0].field or None)
     found = list(dict.fromkeys(n for k in range(len(groups)) for n in out[k][1]))
     if strict and found:
         raise strict_error(found)
