@@ -438,8 +438,9 @@ def run(
                 raise InputError(f"expected a number of processes of at least 1, got {jobs}", field="--jobs")
             from .city.grouped import run_in_groups
 
-            result = run_in_groups(model, target, jobs=jobs, scheduler=scheduler, force=force, strict=strict,
-                                   warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
+            with _progress_bar(show) as bar:  # the groups as they end
+                result = run_in_groups(model, target, jobs=jobs, scheduler=scheduler, force=force, strict=strict,
+                                       warn=lambda n: err.print(str(n), markup=False), progress=bar)  # fmt: skip
         else:
             with _progress_bar(show) as bar:
                 result = run_model(model, output=target, progress=bar, force=force, strict=strict,

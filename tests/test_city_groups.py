@@ -97,7 +97,8 @@ def test_groups_warn_as_the_whole_run_does_and_strict_refuses_with_exit_2(tmp_pa
     """A modulus typed in MPa (a plausibility warning on the material and on every building's
     period): `pound run --jobs 2` prints the warnings the whole run prints, fields named as in
     the whole model (buildings[7], not the second group's buildings[3]), each once, in the
-    same order; with --strict both refuse with exit 2 and the same lines, nothing written.
+    same order, and its progress (--progress, not a terminal: a line per tenth) counts the two
+    groups; with --strict both refuse with exit 2 and the same lines, nothing written.
     (Before, the groups' warnings were not shown, and --strict inside a worker ended the run
     with exit 1 and group-local field names.)"""
     doc = city_document(district_buildings(Block(rows=2, cols=2), 2, 1), "two blocks",
@@ -111,8 +112,9 @@ def test_groups_warn_as_the_whole_run_does_and_strict_refuses_with_exit_2(tmp_pa
         return subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(model), *args], capture_output=True,
                               text=True, cwd=tmp_path)  # fmt: skip
 
-    whole, groups = pound("-o", "whole.h5"), pound("-o", "groups.h5", "--jobs", "2")
+    whole, groups = pound("-o", "whole.h5"), pound("-o", "groups.h5", "--jobs", "2", "--progress")
     assert whole.returncode == groups.returncode == 0, (whole.stderr, groups.stderr)
+    assert "integrating: 50 %" in groups.stderr and "integrating: 100 %" in groups.stderr  # a group of two ended
     expected = _warning_lines(whole.stderr, model)
     assert len(expected) == 9 and expected[0].startswith(f"{model}: materials.concrete.elastic_modulus: ")
     assert f"{model}: buildings[7]: " in expected[-1]

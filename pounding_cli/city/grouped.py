@@ -15,11 +15,13 @@ from ..results.result import RunResult
 
 def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, scheduler: str | None = None,
                   scheduler_file: str | None = None, force: bool = False, strict: bool = False,
-                  warn: Callable[[Any], None] | None = None) -> RunResult:  # fmt: skip
+                  warn: Callable[[Any], None] | None = None,
+                  progress: Callable[[int, int], None] | None = None) -> RunResult:  # fmt: skip
     """Run `model` as its independent groups in parallel and write one HDF5 file; a model of
     one group (or one that cannot be split: obstacles, buildings placed by others) runs as
     `pound run` does. The groups' plausibility warnings go to `warn` (named as in the whole
-    model; with `strict`, an InputError, nothing written). After the merge, buildings of different groups must not have come
+    model; with `strict`, an InputError, nothing written); `progress(done, total)` hears of
+    each group as it ends (of a scene run whole, of its steps, as for `pound run`). After the merge, buildings of different groups must not have come
     within their measured excursions of touching; if two could have, the scene runs again
     whole, with a reach that holds them, and says so."""
     from ..api import check_output_path, input_sha256, run_model, write_results
@@ -34,18 +36,18 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
 
     loaded = load_model(model)
     if not split_allowed(loaded.model):
-        return run_model(loaded, output, force=force, strict=strict, warn=warn)
+        return run_model(loaded, output, force=force, strict=strict, warn=warn, progress=progress)
     system = assemble(loaded)
     ground = ground_motion(loaded)
     reach, near = scene_reach(loaded.model, system.buildings, ground.acceleration, ground.dt)
     groups = components(len(system.buildings), near) if near is not None else [list(range(len(system.buildings)))]
     if len(groups) == 1:
-        return run_model(loaded, output, force=force, strict=strict, warn=warn)
+        return run_model(loaded, output, force=force, strict=strict, warn=warn, progress=progress)
     check_merged_memory(loaded, system, ground.duration, near, len(groups))
     check_output_path(output, force)
     with open_executor(jobs, scheduler, scheduler_file) as executor:
         results, found = run_groups(read_document(loaded.source), str(loaded.source), groups, reach.distance,
-                                    executor.run, strict)  # fmt: skip
+                                    executor.run, strict, progress)  # fmt: skip
     for notice in found if warn is not None else ():
         warn(notice)
     names = [b.name for b in system.buildings]
@@ -68,7 +70,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
             warn(notice)
         contact = loaded.model.contact.model_copy(update={"reach": wider})
         again = replace(loaded, model=loaded.model.model_copy(update={"contact": contact}))
-        result = run_model(again, output, force=True, strict=strict, warn=warn)
+        result = run_model(again, output, force=True, strict=strict, warn=warn, progress=progress)
         result.warnings.append(notice.as_dict())
         return result
     merged.diagnostics["contact_reach_m"] = reach.distance

@@ -132,13 +132,15 @@ def _merge_contact(parts: list[ContactResult]) -> ContactResult:
 
 def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], reach: float,
                submit: Callable[[list[tuple[Any, Callable[..., Any], tuple[Any, ...]]]], Iterable[tuple[Any, bool, Any]]],
-               strict: bool = False) -> tuple[list[RunResult], list[Notice]]:  # fmt: skip
+               strict: bool = False, progress: Callable[[int, int], None] | None = None
+               ) -> tuple[list[RunResult], list[Notice]]:  # fmt: skip
     """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out):
     the results in group order, and the plausibility warnings of all groups (run_group), each
     once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
     and the reason, one its set-up refused the InputError it gave (exit 2); with `strict`,
     warnings are the InputError `pound run --strict` gives, once every group has answered (the
-    groups without any may have run by then; nothing is written)."""
+    groups without any may have run by then; nothing is written). `progress(done, total)` hears
+    of each group as it answers."""
     from ..errors import AnalysisFailed, InputError
     from ..plausibility import strict_error
 
@@ -149,6 +151,8 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
             raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
                                  f"{', …' if len(groups[key]) > 3 else ''}) could not run: {value}")  # fmt: skip
         out[key] = value
+        if progress is not None:
+            progress(len(out), len(groups))
     for k in range(len(groups)):
         result, said = out[k]
         if result is None and not strict:  # refused by its own set-up
