@@ -87,3 +87,36 @@ def test_a_yielding_scene_loads_its_members_kernels(tmp_path):
     loaded = _loaded_kernels_after_run(str(INPUTS / "paper_inelastic.toml"), str(tmp_path / "b.h5"))
     assert "hybrid.hybrid_advance" in loaded
     assert any(name.startswith("hysteresis.") for name in loaded), loaded
+
+
+_ENDING = """
+import atexit, sys
+class Teardown:
+    def __del__(self):
+        print("torn down", flush=True)
+keep = Teardown()  # a module global: the interpreter's shutdown would delete it
+atexit.register(lambda: print("exit handler ran", flush=True))
+sys.argv = ["pound", *sys.argv[1:]]
+from pounding_cli.__main__ import main
+main()
+print("not reached")
+"""
+
+
+@pytest.mark.parametrize("args, code", [(["validate", str(INPUTS / "paper_pounding.toml")], 0),
+                                        (["validate", str(INPUTS / "no-such-model.toml")], 2)])  # fmt: skip
+def test_a_command_ends_the_process_without_the_interpreters_shutdown(args, code):
+    """Once a command has its exit code the process ends (pounding_cli.__main__.end_now): the
+    code as the command gave it, the output flushed, the exit handlers run (a caller's and the
+    libraries'), but no module torn down, which is what the interpreter's shutdown spends a
+    third of a second of a run on (docs/bench.md, "Cold start")."""
+    done = subprocess.run([sys.executable, "-c", _ENDING, *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=600)  # fmt: skip
+    assert done.returncode == code, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[-1] == "exit handler ran", lines[-3:]
+    assert "torn down" not in lines and "not reached" not in lines
+    if code == 0:
+        assert any("paper_pounding" in line or "left" in line for line in lines[:-1]), lines[:5]
+    else:
+        assert "no-such-model.toml" in done.stderr
