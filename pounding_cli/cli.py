@@ -433,16 +433,16 @@ def run(
         from .outputs import output_file
 
         target, note = output_file(output, default_output(model).name) if output is not None else (default_output(model), None)
-        if jobs is not None or scheduler is not None:
-            if jobs is not None and jobs < 1:
-                raise InputError(f"expected a number of processes of at least 1, got {jobs}", field="--jobs")
-            from .city.grouped import run_in_groups
+        grouped = jobs is not None or scheduler is not None
+        if grouped and jobs is not None and jobs < 1:
+            raise InputError(f"expected a number of processes of at least 1, got {jobs}", field="--jobs")
+        with _progress_bar(show) as bar:  # grouped: the groups as they end
+            if grouped:
+                from .city.grouped import run_in_groups
 
-            with _progress_bar(show) as bar:  # the groups as they end
                 result = run_in_groups(model, target, jobs=jobs, scheduler=scheduler, force=force, strict=strict,
                                        warn=lambda n: err.print(str(n), markup=False), progress=bar)  # fmt: skip
-        else:
-            with _progress_bar(show) as bar:
+            else:
                 result = run_model(model, output=target, progress=bar, force=force, strict=strict,
                                    warn=lambda n: err.print(str(n), markup=False))  # fmt: skip
     for sig in (signal.SIGTERM, signal.SIGINT):  # the file has its final name: a signal now ends pound by it

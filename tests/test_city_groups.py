@@ -130,8 +130,8 @@ def test_groups_warn_as_the_whole_run_does_and_strict_refuses_with_exit_2(tmp_pa
 def test_a_group_its_own_set_up_refuses_is_refused_with_exit_2(tmp_path):
     """The resource limits refuse a group in its worker (POUND_MAX_STEPS = 100, far fewer than
     its contact step needs): `pound run --jobs 2` exits 2 with the message `pound run` gives
-    the whole scene, nothing written. (Before, the worker's InputError came back as a failed
-    group: exit 1.)"""
+    the whole scene, nothing written, with --strict too (the refusal is not a plausibility
+    warning). (Before, the worker's InputError came back as a failed group: exit 1.)"""
     import os
 
     doc = city_document(district_buildings(Block(rows=2, cols=2), 2, 1), "two blocks",
@@ -139,11 +139,11 @@ def test_a_group_its_own_set_up_refuses_is_refused_with_exit_2(tmp_path):
     model = tmp_path / "two_blocks.toml"
     model.write_text(tomli_w.dumps(doc))
     said = []
-    for name, extra in (("whole.h5", []), ("groups.h5", ["--jobs", "2"])):
+    for name, extra in (("whole.h5", []), ("groups.h5", ["--jobs", "2"]), ("strict.h5", ["--jobs", "2", "--strict"])):
         done = subprocess.run([sys.executable, "-m", "pounding_cli", "run", str(model), "-o", str(tmp_path / name),
                                *extra], capture_output=True, text=True,
                               env={**os.environ, "POUND_MAX_STEPS": "100"})  # fmt: skip
         assert done.returncode == 2, done.stderr
         assert not (tmp_path / name).exists()
         said.append(done.stderr.strip().splitlines()[-1])
-    assert said[0] == said[1] and "(POUND_MAX_STEPS)" in said[0] and "Traceback" not in said[1]
+    assert said[0] == said[1] == said[2] and "(POUND_MAX_STEPS)" in said[0] and "Traceback" not in said[1]

@@ -21,9 +21,10 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     one group (or one that cannot be split: obstacles, buildings placed by others) runs as
     `pound run` does. The groups' plausibility warnings go to `warn` (named as in the whole
     model; with `strict`, an InputError, nothing written); `progress(done, total)` hears of
-    each group as it ends (of a scene run whole, of its steps, as for `pound run`). After the merge, buildings of different groups must not have come
-    within their measured excursions of touching; if two could have, the scene runs again
-    whole, with a reach that holds them, and says so."""
+    each group as it ends (of a scene run whole, of its steps, as for `pound run`). After the
+    merge, buildings of different groups must not have come within their measured excursions
+    of touching; if two could have, the scene runs again whole, with a reach that holds them,
+    and says so."""
     from ..api import check_output_path, input_sha256, run_model, write_results
     from ..assembly import assemble, ground_motion
     from ..assembly.levels import outlines
@@ -51,7 +52,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     for notice in found if warn is not None else ():
         warn(notice)
     names = [b.name for b in system.buildings]
-    merged = merge(results, names, stored_json(loaded.model), input_sha256(loaded, ground))
+    merged = merge(results, names, stored_json(loaded.model), input_sha256(loaded, ground), found)
     label = np.empty(len(names), dtype=np.int64)
     for g, members in enumerate(groups):
         label[members] = g

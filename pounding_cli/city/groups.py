@@ -51,27 +51,25 @@ def group_document(document: dict[str, Any], members: list[int], reach: float) -
 
 
 def run_group(document: dict[str, Any], source: str, members: list[int], strict: bool = False
-              ) -> tuple[RunResult | None, list[Notice]]:  # fmt: skip
+              ) -> tuple[RunResult | None, list[Notice], Notice | None]:  # fmt: skip
     """Validate, prepare and run one group's model (in a worker process): (its result, its
-    plausibility warnings, their fields named as in the whole model: whole_model_notice). With
-    `strict`, a group with warnings does not run (None): the whole run is refused, as
-    `pound run --strict` refuses it. A group its own set-up refuses (an InputError: the
-    resource limits) does not run either: (None, [that refusal as a notice])."""
+    plausibility warnings, what refused it), fields named as in the whole model
+    (whole_model_notice). A group its own set-up refuses (an InputError: the resource limits)
+    does not run: (None, [], that refusal). With `strict`, a group with warnings does not run
+    either (None): the whole run is refused, as `pound run --strict` refuses it."""
     from ..api import execute, prepare
     from ..errors import InputError
     from ..model import validate_model
 
     try:
         scene = prepare(validate_model(document, Path(source)))
-    except InputError as refused:  # the resource limits, a group's own: the parent raises it (exit 2)
-        return None, [whole_model_notice(Notice(refused.file or source, refused.field or "", refused.message),
-                                         members)]  # fmt: skip
+    except InputError as refused:  # the parent raises it (exit 2)
+        return None, [], whole_model_notice(Notice(refused.file or source, refused.field or "", refused.message),
+                                            members)  # fmt: skip
     found = [whole_model_notice(n, members) for n in scene.notices]
     if strict and found:
-        return None, found
-    result = execute(scene)
-    result.warnings = [n.as_dict() for n in found]
-    return result, found
+        return None, found, None
+    return execute(scene), found, None
 
 
 def whole_model_notice(notice: Notice, members: list[int]) -> Notice:
@@ -85,8 +83,10 @@ def whole_model_notice(notice: Notice, members: list[int]) -> Notice:
     return replace(notice, field=field)
 
 
-def merge(results: list[RunResult], order: list[str], model_json: str, input_sha256: str) -> RunResult:
-    """One RunResult of the groups' results: buildings in `order`, contacts of all groups."""
+def merge(results: list[RunResult], order: list[str], model_json: str, input_sha256: str,
+          warnings: list[Notice]) -> RunResult:  # fmt: skip
+    """One RunResult of the groups' results: buildings in `order`, contacts of all groups, and
+    the scene's `warnings` (run_groups': a group's own name its fields in the group's document)."""
     first = results[0]
     buildings = {}
     for r in results:
@@ -105,7 +105,7 @@ def merge(results: list[RunResult], order: list[str], model_json: str, input_sha
         buildings={name: buildings[name] for name in order},
         status=failed[0] if failed else "complete", model_json=model_json, input_sha256=input_sha256,
         diagnostics=diagnostics, contact=_merge_contact([r.contact for r in results]),
-        warnings=list({tuple(w.values()): w for r in results for w in r.warnings}.values()),  # each once
+        warnings=[n.as_dict() for n in warnings],
     )  # fmt: skip
 
 
@@ -145,7 +145,7 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
     from ..plausibility import strict_error
 
     tasks = [(k, run_group, (group_document(document, g, reach), source, g, strict)) for k, g in enumerate(groups)]
-    out: dict[int, tuple[RunResult | None, list[Notice]]] = {}
+    out: dict[int, tuple[RunResult | None, list[Notice], Notice | None]] = {}
     for key, ok, value in submit(tasks):
         if not ok:
             raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
@@ -153,14 +153,14 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
         out[key] = value
         if progress is not None:
             progress(len(out), len(groups))
-    for k in range(len(groups)):
-        result, said = out[k]
-        if result is None and not strict:  # refused by its own set-up
-            raise InputError(said[0].message, file=said[0].file, field=said[0].field or None)
-    found = list(dict.fromkeys(n for k in range(len(groups)) for n in out[k][1]))
+    answers = [out[k] for k in range(len(groups))]
+    for _, _, refused in answers:
+        if refused is not None:
+            raise InputError(refused.message, file=refused.file, field=refused.field or None)
+    found = list(dict.fromkeys(n for _, said, _ in answers for n in said))
     if strict and found:
         raise strict_error(found)
-    return [out[k][0] for k in range(len(groups))], found  # type: ignore[misc]
+    return [result for result, _, _ in answers], found  # type: ignore[misc]
 
 
 def split_allowed(model) -> bool:  # type: ignore[no-untyped-def]
