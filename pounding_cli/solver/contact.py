@@ -246,6 +246,16 @@ def _shallow_impulse(profile, n, k_n, closing, turning, whole, rest):
 
 
 @kernel(inline="always")
+def _slip_ratio(spring, force, f_n, mu_k, c_t):
+    """F_T/F_N of a slipping contact (along t): the spring's force over F_N without a tangential
+    dashpot (there it is ±μ_k·F_N); beside a dashpot the spring lags, and the slider's ±μ_k,
+    with the sign of the friction `force`, is the ratio."""
+    if c_t == 0.0:
+        return spring / f_n
+    return mu_k if force > 0.0 else -mu_k
+
+
+@kernel(inline="always")
 def _add_parting(p, opened, k_n, mu_s, mu_k, c_t, fa, fb, gax, gay, gbx, gby, dt, state, now, events, forces):
     """At the first step after an episode (without a dashpot), what the midpoint rule missed of
     the part of its last overlap that was expected to stay but parted, having opened by
@@ -267,9 +277,8 @@ def _add_parting(p, opened, k_n, mu_s, mu_k, c_t, fa, fb, gax, gay, gbx, gby, dt
     cy = now[p, NOW_Y]
     missed = k_n * i0
     if missed > 0.0:
-        along = 0.0
-        if state[p, ST_SLIP] > 0:
-            along = state[p, ST_FT] / now[p, NOW_FN] if c_t == 0.0 else (mu_k if now[p, NOW_FT] > 0.0 else -mu_k)
+        slipped = state[p, ST_SLIP] > 0
+        along = _slip_ratio(state[p, ST_FT], now[p, NOW_FT], now[p, NOW_FN], mu_k, c_t) if slipped else 0.0
         px = cx + i1 / i0 * tx
         py = cy + i1 / i0 * ty
         _apply(fb, missed * (nx + along * tx), missed * (ny + along * ty), px, py, gbx, gby, forces)
@@ -515,24 +524,21 @@ def _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact):
     if abs(trial) > limit:
         sign = 1.0 if trial > 0 else -1.0
         target = sign * mu_k * f_n
-        gave = not slipping and state[p, ST_ACTIVE] > 0  # stick gave way within the last step
-        before = after = 0.0
-        if gave:
+        if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
             before = abs(now[p, NOW_FT]) - mu_s * now[p, NOW_FN]
             after = abs(trial) - limit
             back = crossing_share(after, before) if before < 0.0 else 1.0
-        if gave:  # the slip began where stick gave way: the spring followed the stuck path until then
+            # the slip began there: the spring followed the stuck path until then
             start = state[p, ST_FT] + (spring - state[p, ST_FT]) * (1.0 - back)
             spring = _slipping_spring(start, sign * mu_k * (f_n + back * (now[p, NOW_FN] - f_n)), target, back, dt,
                                       law.k_t[p], law.c_t[p])  # fmt: skip
-        elif state[p, ST_ACTIVE] == 0:  # at the touch, unloaded
-            spring = _slipping_spring(0.0, 0.0, target, share, dt, law.k_t[p], law.c_t[p])
-        else:
-            spring = _slipping_spring(state[p, ST_FT], sign * mu_k * now[p, NOW_FN], target, 1.0, dt, law.k_t[p],
-                                      law.c_t[p])  # fmt: skip
-        if gave:
             trial = target + sign * _kinetic_shortfall(before, after, now[p, NOW_FN], f_n, mu_s, mu_k)
-        else:
+        else:  # slipping since the touch (the spring unloaded there) or since the last step
+            if state[p, ST_ACTIVE] == 0:
+                spring = _slipping_spring(0.0, 0.0, target, share, dt, law.k_t[p], law.c_t[p])
+            else:
+                spring = _slipping_spring(state[p, ST_FT], sign * mu_k * now[p, NOW_FN], target, 1.0, dt,
+                                          law.k_t[p], law.c_t[p])  # fmt: skip
             trial = target
         slipping = True
     elif slipping and abs(trial) <= mu_k * f_n:
@@ -710,9 +716,8 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
                     arm = (missed * arm + out * arm_out) / (missed + out)
                     missed += out
             if missed > 0.0:
-                along = 0.0  # a slipping contact's friction follows (the slider's, beside a dashpot)
-                if slipping:
-                    along = spring / f_n if law.c_t[p] == 0.0 else (law.mu_k[p] if f_t > 0.0 else -law.mu_k[p])
+                # a slipping contact's friction follows
+                along = _slip_ratio(spring, f_t, f_n, law.mu_k[p], law.c_t[p]) if slipping else 0.0
                 px = cx + arm * tx
                 py = cy + arm * ty
                 mx = missed * (nx + along * tx)
