@@ -1,6 +1,6 @@
 """Re-measure the figures quoted in docs/validation.md and docs/theory.md.
 
-    python docs/measure_validation.py [time-histories] [geometry] [impacts] [events]
+    python docs/measure_validation.py [time-histories] [geometry] [impacts] [events] [corner-friction]
 
 (every section without arguments; a few minutes, most of it the geometry kernel's
 hypothesis examples and the Kobe example). Uses the test suite's independent references
@@ -357,7 +357,23 @@ def event_times() -> None:
           f"− 0.05 s = {(coarse[0, kernel.EV_T_STICK] - 0.05) / dt:+.1e}·Δt")
 
 
-SECTIONS = {"time-histories": time_histories, "geometry": geometry, "impacts": impacts, "events": event_times}
+def corner_friction() -> None:
+    """docs/validation.md, "Impact model": the spinning corner impact with friction converging
+    (theory §10, "The slip at the step's midpoint"), as tests/test_contact.py runs it."""
+    from test_contact import corner_friction_errors
+
+    steps = (2e-5, 1e-5, 5e-6, 2.5e-6)
+    for mu in ((0.6, 0.6), (0.8, 0.6)):
+        errors, speed = corner_friction_errors(*mu, steps)
+        orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+        print(f"corner with friction μ_s = {mu[0]}, μ_k = {mu[1]}: velocity errors "
+              f"{', '.join(f'{e:.2g}' for e in errors)} m/s at Δt = {', '.join(f'{s:g}' for s in steps)} s "
+              f"(orders {', '.join(f'{o:.2f}' for o in orders)}; {errors[0] / errors[2]:.3g}× over 4× the step; "
+              f"speed {speed:.3g} m/s)")
+
+
+SECTIONS = {"time-histories": time_histories, "geometry": geometry, "impacts": impacts, "events": event_times,
+            "corner-friction": corner_friction}
 
 
 def main() -> None:

@@ -8,7 +8,8 @@ B, tangent t = ẑ × n); then the impact law acting at c:
 
     F_N = k_N·A_c + c_N·s            s = −(v_B(c) − v_A(c))·n, the closing speed; F_N ≥ 0
     F_T ← F_T − k_T·Δu_T             Δu_T = Δt·(v_B(c) − v_A(c))·t, B's slip on A since the last
-                                     step (velocities at t_{n−½}); the dashpots use v ≈ v_n
+                                     step (velocities, c, the mass centres and t at t_{n−½}:
+                                     _slip_over_step); the dashpots use v ≈ v_n
     F_T,total = F_T − c_T·(v_B(c) − v_A(c))·t
     stick while |F_T,total| ≤ μ_s·F_N; on exceeding it the contact slips with |F_T| = μ_k·F_N
     and keeps slipping (limit μ_k·F_N) until the trial force falls within μ_k·F_N again.
@@ -158,6 +159,35 @@ def _point_velocity(f, cx, cy, gx, gy, v):
         return 0.0, 0.0
     w = v[3 * f + 2]
     return v[3 * f] - w * (cy - gy), v[3 * f + 1] + w * (cx - gx)
+
+
+@kernel(inline="always")
+def _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, v_half, state, now):
+    """B's slip on A along the contact's tangent over the last step, m: Δt·(v_B − v_A)·t at the
+    step's midpoint, where v_{n−½} holds: the action point, the mass centres and the tangent
+    halfway between the last step's and this one's. Taken at t_n instead, a turning contact's
+    point and tangent are half a step ahead of the velocities: O(Δt²) a step, which the stuck
+    spring sums into a first-order error. At an episode's first step there is no last frame:
+    t_n's."""
+    if state[p, ST_ACTIVE] == 0:
+        vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
+        vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
+        return dt * ((vbx - vax) * tx + (vby - vay) * ty)
+    mx = 0.5 * (cx + now[p, NOW_X])
+    my = 0.5 * (cy + now[p, NOW_Y])
+    mtx = tx - state[p, ST_NY]  # the last tangent: ẑ × n = (−n_y, n_x)
+    mty = ty + state[p, ST_NX]
+    size = np.sqrt(mtx * mtx + mty * mty)
+    mtx /= size
+    mty /= size
+    half = 0.5 * dt
+    ga_x = gax - half * v_half[3 * fa] if fa >= 0 else gax
+    ga_y = gay - half * v_half[3 * fa + 1] if fa >= 0 else gay
+    gb_x = gbx - half * v_half[3 * fb] if fb >= 0 else gbx
+    gb_y = gby - half * v_half[3 * fb + 1] if fb >= 0 else gby
+    vax, vay = _point_velocity(fa, mx, my, ga_x, ga_y, v_half)
+    vbx, vby = _point_velocity(fb, mx, my, gb_x, gb_y, v_half)
+    return dt * ((vbx - vax) * mtx + (vby - vay) * mty)
 
 
 @kernel(inline="always")
@@ -663,9 +693,9 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         ty = frame[TY]
         # relative motion of B's material point at c with respect to A's: slip since the
         # last step (half-step velocities) and velocity now (for the dashpots)
+        slip_t = _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, v_half, state, now)
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
-        slip_t = dt * ((vbx - vax) * tx + (vby - vay) * ty)
         closed = -dt * ((vbx - vax) * nx + (vby - vay) * ny)  # over the last step at c, m
         # and its change along t, per metre: B's turning relative to A's
         closed_turn = dt * ((v_half[3 * fb + 2] if fb >= 0 else 0.0) - (v_half[3 * fa + 2] if fa >= 0 else 0.0))
