@@ -168,9 +168,11 @@ def test_frictionless_spinning_corner_impact_keeps_kinetic_energy():
 
 
 def corner_friction_errors(mu_s, mu_k, steps=(2e-5, 5e-6)):
-    """The spinning corner impact (_oblique) with friction: the slabs' largest velocity error
-    after 0.2 s at each step in `steps`, m/s, against a run at 2e-5/256 s (its own error, at
-    second order, ~1e-12 m/s), and the reference's largest speed."""
+    """The spinning corner impact (_oblique) with friction: at each step in `steps`, the
+    slabs' largest velocity error over 0.2 s (sampled every ms), m/s, against a run at
+    2e-5/256 s (its own error, at second order, ~1e-11 m/s). The velocity after the impact
+    alone is a poor measure: the error built up in contact partly cancels as the contact ends,
+    by an amount that jumps with the step."""
     reference = None
     errors = []
     for dt in (2e-5 / 256, *steps):
@@ -178,24 +180,24 @@ def corner_friction_errors(mu_s, mu_k, steps=(2e-5, 5e-6)):
         r = run(structure, contact, velocity, duration=0.2, dt=dt, stride=int(round(1e-3 / dt)))
         assert r.events.shape[0] == 1 and r.events[0, kernel.EV_SLID] == 1.0, "one episode, which slips"
         if reference is None:
-            reference = r.velocity[-1]
+            reference = r.velocity
             continue
-        errors.append(np.abs(r.velocity[-1] - reference).max())
-    return errors, np.abs(reference).max()
+        errors.append(np.abs(r.velocity - reference).max())
+    return errors
 
 
-def test_oblique_corner_friction_converges_at_second_order():
-    """The spinning corner impact with friction, μ_s = μ_k = 0.6 (no static drop, whose
-    placement is a separate event), at Δt = 2e-5 and 5e-6 s. The stuck spring sums each
-    step's slip; taken with the action point, mass centres and tangent at t_n instead of the
-    step's midpoint it erred by O(Δt²) a step, first order in all: the error then fell 3.9×
-    when Δt fell 4× (1.8e-6 → 4.7e-7 m/s). Second order gives 16×; the midpoint slip measures
-    194× (7.7e-8 → 4.0e-10 m/s; `python docs/measure_validation.py corner-friction`). 12 (¾ of
-    16) rules first order out with room for the episode's non-smooth events."""
-    errors, speed = corner_friction_errors(0.6, 0.6)
-    assert errors[0] / errors[1] >= 12.0, errors
-    # 2e-7 of the speed (~1 m/s): 2.6× the midpoint slip's 7.7e-8 m/s, a ninth of first order's 1.8e-6
-    assert errors[0] < 2e-7 * speed, errors
+@pytest.mark.parametrize("mu", [(0.6, 0.6), (0.8, 0.6)], ids=["mu_s=mu_k", "mu_s>mu_k"])
+def test_oblique_corner_friction_converges_at_second_order(mu):
+    """The spinning corner impact with friction, at Δt = 2e-5 and 5e-6 s: it slips from the
+    touch, sticks while F_T turns over, and slips again as F_N falls. The stuck spring sums
+    each step's slip; taken with the action point, mass centres and tangent at t_n instead of
+    the step's midpoint it erred by O(Δt²) a step, first order in all (1.9e-6 → 4.7e-7 m/s over
+    4× the step, order 1.0). With the midpoint slip: 4.6e-7 → 2.9e-8 m/s, order 2.00 for both
+    friction laws (`python docs/measure_validation.py corner-friction`). 1.8 rules first order
+    out with room for the episode's events inside the step."""
+    errors = corner_friction_errors(*mu)
+    order = np.log2(errors[0] / errors[1]) / 2.0
+    assert order >= 1.8, errors
 
 
 def test_corner_first_impact_turns_the_slab_the_right_way():
