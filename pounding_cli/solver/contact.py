@@ -833,22 +833,32 @@ def _centre_difference(a, b, x, body_floor):
 
 
 @kernel(inline="always")
-def _pair_closing(a, b, v, acc, horizon, body_floor, body_radius):
-    """How much the outlines of bodies a and b can close within `horizon` s, m: their mass
-    centres' relative speed and acceleration (the ground's, common to both, cancels; an
-    obstacle moves with the ground) and what each one's turning adds (_turn_reach)."""
-    dv = _centre_difference(a, b, v, body_floor)
+def _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius):
+    """How much the outlines of bodies a and b can close within `horizon` s along the fixed
+    direction (dx, dy) from a towards b, m: B's mass centre approaching A's along it (nothing
+    while they move apart), their relative acceleration whichever way it points (it can turn
+    an opening into a closing within the horizon), and what each one's turning adds
+    (_turn_reach). The gap of the two outlines' projections on that axis bounds their distance
+    from below at every instant, so this bounds its fall."""
+    fa = body_floor[a]
+    fb = body_floor[b]
+    vx = (v[3 * fb] if fb >= 0 else 0.0) - (v[3 * fa] if fa >= 0 else 0.0)
+    vy = (v[3 * fb + 1] if fb >= 0 else 0.0) - (v[3 * fa + 1] if fa >= 0 else 0.0)
+    approach = max(0.0, -(vx * dx + vy * dy))
     da = _centre_difference(a, b, acc, body_floor)
-    move = dv * horizon + 0.5 * da * horizon * horizon
+    move = approach * horizon + 0.5 * da * horizon * horizon
     return move + _turn_reach(a, v, acc, horizon, body_floor, body_radius) + _turn_reach(
         b, v, acc, horizon, body_floor, body_radius)
 
 
 @kernel(inline="always")
-def _separation_along_edges(p, n_p, q, n_q):
-    """The largest gap between the projections of outlines p and q on the normals of p's
-    edges (≤ 0 when these axes do not separate them), m."""
+def _separating_direction(p, n_p, q, n_q):
+    """The largest gap between the projections of outlines p and q on the normals of p's edges
+    (≤ 0 when none separates them), m, and the unit direction along that normal from p
+    towards q."""
     best = -np.inf
+    bx = 0.0
+    by = 0.0
     for i in range(n_p):
         j = i + 1 if i + 1 < n_p else 0
         ex = p[j, 0] - p[i, 0]
@@ -870,8 +880,22 @@ def _separation_along_edges(p, n_p, q, n_q):
             d = q[k, 0] * nx + q[k, 1] * ny
             lo_q = min(lo_q, d)
             hi_q = max(hi_q, d)
-        best = max(best, lo_q - hi_p, lo_p - hi_q)
-    return best
+        if lo_q - hi_p > best:
+            best = lo_q - hi_p
+            bx = nx
+            by = ny
+        if lo_p - hi_q > best:
+            best = lo_p - hi_q
+            bx = -nx
+            by = -ny
+    return best, bx, by
+
+
+@kernel(inline="always")
+def _separation_along_edges(p, n_p, q, n_q):
+    """The largest gap between the projections of outlines p and q on the normals of p's
+    edges (≤ 0 when these axes do not separate them), m."""
+    return _separating_direction(p, n_p, q, n_q)[0]
 
 
 @kernel(inline="always")
@@ -927,8 +951,12 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
     """True when no pair can touch within `horizon` s: for every pair whose widened bounding
     boxes may meet (as contact_possible_within finds them), the gap between the displaced
     outlines (a lower bound by separating axes: the largest gap between their projections on
-    any edge normal) exceeds CLOSING_SAFETY × what they can close in that time
-    (_pair_closing). Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
+    any edge normal) exceeds CLOSING_SAFETY × what they can close in that time along that
+    axis (_pair_closing_along: nothing for their velocities where they move apart, so that a
+    pair that just parted is ruled out as soon as its gap outgrows what the accelerations can
+    close; counting their relative speed whichever way it pointed, the Kobe example took
+    20,902 CDM steps outside contact, a third of its CDM steps; now 9,937).
+    Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
     hybrid's approach levels use it to step exactly up to a few CDM steps before an impact."""
     bodies, broad = contact.bodies, contact.broad
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
@@ -949,8 +977,13 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
         b = pair_b[p]
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
             continue
-        closing = CLOSING_SAFETY * _pair_closing(a, b, v, acc, horizon, body_floor, body_radius)
-        gap = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
+        _deform(a, u, bodies.poly, bodies.nv, body_floor, bodies.centre, poly_a)
+        _deform(b, u, bodies.poly, bodies.nv, body_floor, bodies.centre, poly_b)
+        gap, dx, dy = _separating_direction(poly_a, bodies.nv[a], poly_b, bodies.nv[b])
+        gap_b, dx_b, dy_b = _separating_direction(poly_b, bodies.nv[b], poly_a, bodies.nv[a])
+        if gap_b > gap:  # the best axis is one of B's edge normals: its direction from B to A, turned
+            gap, dx, dy = gap_b, -dx_b, -dy_b
+        closing = CLOSING_SAFETY * _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius)
         if not gap > closing:  # (NaN: possible)
             return False
     return True
