@@ -162,17 +162,15 @@ def _point_velocity(f, cx, cy, gx, gy, v):
 
 
 @kernel(inline="always")
-def _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, v_half, state, now):
+def _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, rel_x, rel_y, v_half, state, now):
     """B's slip on A along the contact's tangent over the last step, m: Δt·(v_B − v_A)·t at the
     step's midpoint, where v_{n−½} holds: the action point, the mass centres and the tangent
     halfway between the last step's and this one's. Taken at t_n instead, a turning contact's
     point and tangent are half a step ahead of the velocities: O(Δt²) a step, which the stuck
     spring sums into a first-order error. At an episode's first step there is no last frame:
-    t_n's."""
+    t_n's, with (rel_x, rel_y) = v_B − v_A at c by v_{n−½}."""
     if state[p, ST_ACTIVE] == 0:
-        vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
-        vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
-        return dt * ((vbx - vax) * tx + (vby - vay) * ty)
+        return dt * (rel_x * tx + rel_y * ty)
     mx = 0.5 * (cx + now[p, NOW_X])
     my = 0.5 * (cy + now[p, NOW_Y])
     mtx = tx - state[p, ST_NY]  # the last tangent: ẑ × n = (−n_y, n_x)
@@ -693,9 +691,10 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         ty = frame[TY]
         # relative motion of B's material point at c with respect to A's: slip since the
         # last step (half-step velocities) and velocity now (for the dashpots)
-        slip_t = _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, v_half, state, now)
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
+        slip_t = _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, vbx - vax, vby - vay, v_half,
+                                 state, now)  # fmt: skip
         closed = -dt * ((vbx - vax) * nx + (vby - vay) * ny)  # over the last step at c, m
         # and its change along t, per metre: B's turning relative to A's
         closed_turn = dt * ((v_half[3 * fb + 2] if fb >= 0 else 0.0) - (v_half[3 * fa + 2] if fa >= 0 else 0.0))
@@ -822,13 +821,20 @@ def _turn_reach(body, v, acc, horizon, body_floor, body_radius):
 
 
 @kernel(inline="always")
-def _centre_difference(a, b, x, body_floor):
-    """|x_B − x_A| in plan for the mass-centre entries (x, y) of a floor vector x (velocity,
+def _centre_relative(a, b, x, body_floor):
+    """x_B − x_A in plan (x, y) for the mass-centre entries of a floor vector x (velocity,
     acceleration); an obstacle's are zero (it moves with the ground)."""
     fa = body_floor[a]
     fb = body_floor[b]
     dx = (x[3 * fb] if fb >= 0 else 0.0) - (x[3 * fa] if fa >= 0 else 0.0)
     dy = (x[3 * fb + 1] if fb >= 0 else 0.0) - (x[3 * fa + 1] if fa >= 0 else 0.0)
+    return dx, dy
+
+
+@kernel(inline="always")
+def _centre_difference(a, b, x, body_floor):
+    """|x_B − x_A| in plan (_centre_relative)."""
+    dx, dy = _centre_relative(a, b, x, body_floor)
     return np.sqrt(dx * dx + dy * dy)
 
 
@@ -840,10 +846,7 @@ def _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius):
     an opening into a closing within the horizon), and what each one's turning adds
     (_turn_reach). The gap of the two outlines' projections on that axis bounds their distance
     from below at every instant, so this bounds its fall."""
-    fa = body_floor[a]
-    fb = body_floor[b]
-    vx = (v[3 * fb] if fb >= 0 else 0.0) - (v[3 * fa] if fa >= 0 else 0.0)
-    vy = (v[3 * fb + 1] if fb >= 0 else 0.0) - (v[3 * fa + 1] if fa >= 0 else 0.0)
+    vx, vy = _centre_relative(a, b, v, body_floor)
     approach = max(0.0, -(vx * dx + vy * dy))
     da = _centre_difference(a, b, acc, body_floor)
     move = approach * horizon + 0.5 * da * horizon * horizon
@@ -892,23 +895,21 @@ def _separating_direction(p, n_p, q, n_q):
 
 
 @kernel(inline="always")
-def _separation_along_edges(p, n_p, q, n_q):
-    """The largest gap between the projections of outlines p and q on the normals of p's
-    edges (≤ 0 when these axes do not separate them), m."""
-    return _separating_direction(p, n_p, q, n_q)[0]
-
-
-@kernel(inline="always")
 def _signed_gap(p, n_p, q, n_q):
     """Separating-axis gap of outlines p and q over both outlines' edge normals, m: a lower
-    bound of their distance when > 0; minus their penetration depth when they overlap."""
-    return max(_separation_along_edges(p, n_p, q, n_q), _separation_along_edges(q, n_q, p, n_p))
+    bound of their distance when > 0; minus their penetration depth when they overlap. Also
+    the unit direction of that axis from p towards q."""
+    gap, dx, dy = _separating_direction(p, n_p, q, n_q)
+    gap_q, dx_q, dy_q = _separating_direction(q, n_q, p, n_p)
+    if gap_q > gap:  # one of q's edge normals: its direction from q to p, turned
+        return gap_q, -dx_q, -dy_q
+    return gap, dx, dy
 
 
 @kernel(inline="always")
 def _outline_gap(a, b, u, v, back, bodies, poly_a, poly_b):
     """_signed_gap of bodies a and b displaced to u − back·v (back s before, at velocity v),
-    m; their outlines are left in poly_a, poly_b."""
+    m, and its axis from a towards b; their outlines are left in poly_a, poly_b."""
     body_poly, body_nv, body_floor, body_centre = bodies.poly, bodies.nv, bodies.floor, bodies.centre
     _deform_before(a, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_a)
     _deform_before(b, u, v, back, body_poly, body_nv, body_floor, body_centre, poly_b)
@@ -919,8 +920,8 @@ def _outline_gap(a, b, u, v, back, bodies, poly_a, poly_b):
 def gaps_along_step(a, b, dt, u, v_half, bodies, poly_a, poly_b):
     """The signed gaps of bodies a and b now and a step ago along the CDM's straight path
     (u − Δt·v_{n−½}), m (_signed_gap: minus the depth where they overlap)."""
-    now = _outline_gap(a, b, u, v_half, 0.0, bodies, poly_a, poly_b)
-    before = _outline_gap(a, b, u, v_half, dt, bodies, poly_a, poly_b)
+    now = _outline_gap(a, b, u, v_half, 0.0, bodies, poly_a, poly_b)[0]
+    before = _outline_gap(a, b, u, v_half, dt, bodies, poly_a, poly_b)[0]
     return now, before
 
 
@@ -977,12 +978,7 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
         b = pair_b[p]
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
             continue
-        _deform(a, u, bodies.poly, bodies.nv, body_floor, bodies.centre, poly_a)
-        _deform(b, u, bodies.poly, bodies.nv, body_floor, bodies.centre, poly_b)
-        gap, dx, dy = _separating_direction(poly_a, bodies.nv[a], poly_b, bodies.nv[b])
-        gap_b, dx_b, dy_b = _separating_direction(poly_b, bodies.nv[b], poly_a, bodies.nv[a])
-        if gap_b > gap:  # the best axis is one of B's edge normals: its direction from B to A, turned
-            gap, dx, dy = gap_b, -dx_b, -dy_b
+        gap, dx, dy = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
         closing = CLOSING_SAFETY * _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius)
         if not gap > closing:  # (NaN: possible)
             return False
