@@ -1319,12 +1319,12 @@ def main() -> None:
     no word, and one that arrives while typer builds the command from the functions' signatures
     (before any command runs) escapes it; pound's contract for an interrupted command is exit
     1, "interrupted"."""
-    from .interrupts import InterruptedAfterWriting
+    from .interrupts import InterruptedAfterWriting, die_by
 
     try:
         app(prog_name="pound")
-    except InterruptedAfterWriting:
-        raise  # the results have their final name: the signal's own end (interrupts.die_by), never exit 1
+    except InterruptedAfterWriting as exc:  # the results have their final name: the signal's own end, never exit 1
+        die_by(exc.signum)
     except KeyboardInterrupt:
         err.print("interrupted", markup=False)
         raise SystemExit(1) from None

@@ -32,7 +32,7 @@ from typing import Iterator
 _requested = False
 _depth = 0
 _pending: int | None = None  # a signal recorded while deferred, not yet acted on
-_written = False  # within terminate_as_interrupt: the run's result file has its final name
+_written = False  # the run's result file has its final name (set within terminate_as_interrupt)
 
 
 class Interrupted(KeyboardInterrupt):
@@ -74,14 +74,14 @@ class terminate_as_interrupt:
         return self
 
     def __exit__(self, *exc: object) -> None:
-        global _depth, _requested, _written
+        global _depth, _requested
         if self.previous:
             for sig, handler in self.previous.items():
                 signal.signal(sig, handler)
             sys.unraisablehook = self.hook
             _depth -= 1
-            if _depth == 0:
-                _requested = _written = False
+            if _depth == 0:  # _written stays: the command line's handler (stop_from_the_start)
+                _requested = False  # sees it until the command sets the signals' default action
 
 
 def _quiet_about_interrupts(hook):  # type: ignore[no-untyped-def]
@@ -163,8 +163,11 @@ def stop_from_the_start() -> None:
 
 
 def results_written() -> None:
-    """The run's result file has its final name: within terminate_as_interrupt, a signal from
-    now on means death by the signal (after_writing), not 'interrupted, nothing written'."""
+    """The run's result file has its final name: within terminate_as_interrupt, and after it
+    until the next one begins, a signal from now on means death by the signal
+    (after_writing), not 'interrupted, nothing written' (a SIGTERM in the moment between the
+    block's end and the command line's setting the signals' default action was "interrupted",
+    exit 1, with a complete file)."""
     global _written
     if _depth:
         _written = True
