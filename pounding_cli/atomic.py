@@ -41,6 +41,12 @@ TEMPORARY = re.compile(r"^\.(?P<name>.+)\.(?P<pid>[0-9]+)\.tmp$")
 """The name of a temporary file: ``.<final name>.<pid of the writing process>.tmp``."""
 
 
+class Abandon(Exception):
+    """Raised in the block of atomic_path or atomic_stream to drop what it wrote: the temporary
+    file is removed, the final name left as it was, and the exception passes on unchanged
+    (never taken for a failure to write)."""
+
+
 def temporary_name(path: Path) -> Path:
     """Where the file for `path` is written before it is renamed (same folder)."""
     return path.with_name(f".{path.name}.{os.getpid()}.tmp")
@@ -53,25 +59,51 @@ def atomic_path(path: str | Path, committed: Callable[[], None] | None = None) -
     called right after the rename (a run marks its results written)."""
     path = Path(path)
     tmp = temporary_name(path)
-    with deferred():
-        try:
-            yield tmp
-            _fsync(tmp)
-            checkpoint()  # the last moment a signal abandons the write
-            os.replace(tmp, path)
-            if committed is not None:
-                committed()
-            _fsync(path.parent)
-        except OSError as exc:
-            raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
-        except (InputError, KeyboardInterrupt):
+    with deferred(), _written_or_removed(tmp, path):
+        yield tmp
+        _rename(tmp, path, committed)
+
+
+@contextmanager
+def atomic_stream(path: str | Path, committed: Callable[[], None] | None = None) -> Iterator[Path]:
+    """atomic_path for a file written in parts over a long time (a run in independent groups
+    writes each group's buildings as the group ends, city/grouped.py): signals are deferred
+    only where the writer defers them (interrupts.deferred around each part) and at the
+    rename, so that Ctrl-C or SIGTERM stops the run at once between the parts."""
+    path = Path(path)
+    tmp = temporary_name(path)
+    with _written_or_removed(tmp, path):
+        yield tmp
+        with deferred():
+            _rename(tmp, path, committed)
+
+
+def _rename(tmp: Path, path: Path, committed: Callable[[], None] | None) -> None:
+    """Flush the complete temporary file and give it its final name (then `committed()`)."""
+    _fsync(tmp)
+    checkpoint()  # the last moment a signal abandons the write
+    os.replace(tmp, path)
+    if committed is not None:
+        committed()
+    _fsync(path.parent)
+
+
+@contextmanager
+def _written_or_removed(tmp: Path, path: Path) -> Iterator[None]:
+    """Within the block `tmp` is written for `path`: a failure to write is a WriteError naming
+    `path`, and `tmp` is removed at the end unless it was renamed."""
+    try:
+        yield
+    except OSError as exc:
+        raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
+    except (InputError, KeyboardInterrupt, Abandon):
+        raise
+    except Exception as exc:  # the writing library's own error (wrapping ENOSPC in its own)
+        if not _failed_writing(exc, tmp):
             raise
-        except Exception as exc:  # the writing library's own error (wrapping ENOSPC in its own)
-            if not _failed_writing(exc, tmp):
-                raise
-            raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
-        finally:
-            _remove(tmp)
+        raise WriteError(f"cannot write the file ({reason(exc)})", file=path) from None
+    finally:
+        _remove(tmp)
 
 
 def _failed_writing(exc: Exception, tmp: Path) -> bool:
@@ -97,8 +129,13 @@ def hdf5_writer(tmp: Path, **options: Any) -> Iterator[Any]:
     fd = os.open(tmp, os.O_RDWR | os.O_CREAT | os.O_TRUNC | getattr(os, "O_CLOEXEC", 0), 0o644)
     sink = DiskSink(fd)
     try:
-        with h5py.File(sink, "w", **options) as f:
+        with deferred():  # HDF5 writes through the sink's Python code as it opens and closes the file
+            f = h5py.File(sink, "w", **options)
+        try:
             yield f
+        finally:
+            with deferred():
+                f.close()
     finally:
         os.close(fd)
     sink.check()

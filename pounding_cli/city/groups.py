@@ -24,6 +24,7 @@ import numpy as np
 
 from ..plausibility import Notice
 from ..results.result import ContactResult, RunResult
+from ..results.sparse import SparseColumns
 
 
 def components(n: int, pairs: Iterable[tuple[int, int]]) -> list[list[int]]:
@@ -85,8 +86,10 @@ def whole_model_notice(notice: Notice, members: list[int]) -> Notice:
 
 def merge(results: list[RunResult], order: list[str], model_json: str, input_sha256: str,
           warnings: list[Notice]) -> RunResult:  # fmt: skip
-    """One RunResult of the groups' results: buildings in `order`, contacts of all groups, and
-    the scene's `warnings` (run_groups': a group's own name its fields in the group's document)."""
+    """One RunResult of the groups' results as GroupedFile.add leaves them (their contact
+    histories SparseColumns, their buildings' histories in the file): buildings in `order`,
+    contacts of all groups, and the scene's `warnings` (run_groups': a group's own name its
+    fields in the group's document)."""
     first = results[0]
     buildings = {}
     for r in results:
@@ -119,8 +122,8 @@ def _merge_contact(parts: list[ContactResult]) -> ContactResult:
     events_all = np.concatenate(events)
     events_all = events_all[np.argsort(events_all["t_start"], kind="stable")]
 
-    def stack(name: str) -> np.ndarray:
-        return np.concatenate([getattr(c, name) for c in parts], axis=1)
+    def stack(name: str) -> SparseColumns:
+        return SparseColumns.side_by_side([getattr(c, name) for c in parts])
 
     return ContactResult(
         pairs=np.concatenate([c.pairs for c in parts]), normal_force=stack("normal_force"),
@@ -132,11 +135,12 @@ def _merge_contact(parts: list[ContactResult]) -> ContactResult:
 
 def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], reach: float,
                submit: Callable[[list[tuple[Any, Callable[..., Any], tuple[Any, ...]]]], Iterable[tuple[Any, bool, Any]]],
-               strict: bool = False, progress: Callable[[int, int], None] | None = None
-               ) -> tuple[list[RunResult], list[Notice]]:  # fmt: skip
+               strict: bool = False, progress: Callable[[int, int], None] | None = None,
+               keep: Callable[[RunResult], RunResult] = lambda r: r) -> tuple[list[RunResult], list[Notice]]:  # fmt: skip
     """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out):
-    the results in group order, and the plausibility warnings of all groups (run_group), each
-    once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
+    the results in group order, each as `keep` returns it when its group ends (GroupedFile.add
+    writes it and keeps what the merge needs), and the plausibility warnings of all groups
+    (run_group), each once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
     and the reason, one its set-up refused the InputError it gave (exit 2); with `strict`,
     warnings are the InputError `pound run --strict` gives, once every group has answered (the
     groups without any may have run by then; nothing is written). `progress(done, total)` hears
@@ -150,7 +154,8 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
         if not ok:
             raise AnalysisFailed(f"group {key + 1} of {len(groups)} (buildings {', '.join(document['buildings'][k]['name'] for k in groups[key][:3])}"
                                  f"{', …' if len(groups[key]) > 3 else ''}) could not run: {value}")  # fmt: skip
-        out[key] = value
+        result, said, refused = value
+        out[key] = (keep(result) if result is not None else None, said, refused)
         if progress is not None:
             progress(len(out), len(groups))
     answers = [out[k] for k in range(len(groups))]

@@ -122,15 +122,40 @@ def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path. A file that cannot be
     written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
-    many = {"libver": ("v108", "v108")} if len(result.buildings) > DENSE_ATTRIBUTES_BUILDINGS else {}
     with atomic_path(path, committed=results_written) as tmp:
-        with hdf5_writer(tmp, track_order=True, **many) as f:
+        with hdf5_writer(tmp, **file_options(len(result.buildings))) as f:
             _write(f, result)
     result.output = path
     return path
 
 
+def file_options(buildings: int) -> dict[str, Any]:
+    """h5py.File's options for a result file of this many buildings."""
+    return {"track_order": True, **({"libver": ("v108", "v108")} if buildings > DENSE_ATTRIBUTES_BUILDINGS else {})}
+
+
 def _write(f: h5py.File, r: RunResult) -> None:
+    time, axis = _write_time_and_ground(f, r)
+    buildings = f.create_group("buildings", track_order=True)
+    for name, b in r.buildings.items():
+        checkpoint()  # a SIGTERM meanwhile abandons the file here (atomic_path removes it)
+        _write_building(buildings.create_group(name), b, time)
+    _pause_for_tests()
+    checkpoint()
+    _write_all_but_buildings(f, r, time, axis)
+
+
+def _write_time_and_ground(f: h5py.File, r: RunResult) -> tuple[h5py.Dataset, h5py.Dataset]:
+    """/time and /ground; returns the scales of time and of the global axes X, Y."""
+    time = _scale(f, "time", r.time, "s", "times of the stored samples")
+    ground = f.create_group("ground")
+    axis = _labels(ground, "axis", ["X", "Y"], "global axes")
+    _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", (time, axis), columns="X, Y", axes="global")
+    return time, axis
+
+
+def _write_all_but_buildings(f: h5py.File, r: RunResult, time: h5py.Dataset, axis: h5py.Dataset) -> None:
+    """The file's attributes, /impacts, /energy and /diagnostics."""
     from .. import __version__
 
     f.attrs["pound_version"] = __version__
@@ -138,16 +163,6 @@ def _write(f: h5py.File, r: RunResult) -> None:
     f.attrs["model"] = r.model_json
     f.attrs["units"] = "SI"
     f.attrs["status"] = r.status
-    time = _scale(f, "time", r.time, "s", "times of the stored samples")
-    ground = f.create_group("ground")
-    axis = _labels(ground, "axis", ["X", "Y"], "global axes")
-    _dataset(ground, "acceleration", r.ground_acceleration, "m/s2", (time, axis), columns="X, Y", axes="global")
-    buildings = f.create_group("buildings", track_order=True)
-    for name, b in r.buildings.items():
-        checkpoint()  # a SIGTERM meanwhile abandons the file here (atomic_path removes it)
-        _write_building(buildings.create_group(name), b, time)
-    _pause_for_tests()
-    checkpoint()
     _write_contact(f.create_group("impacts"), r.contact, time, axis)
     term = _labels(f, "energy_term", list(ENERGY_NAMES), "the columns of /energy")
     _dataset(f, "energy", r.energy, "J", (time, term), columns=", ".join(ENERGY_NAMES))

@@ -12,6 +12,8 @@ before read as they always did. The attribute `stored_columns` lists the columns
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import h5py
 import numpy as np
 
@@ -28,18 +30,42 @@ def written_columns(data: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.any(flat != 0, axis=(0, 2)))
 
 
-def create_sparse(group: h5py.Group, name: str, data: np.ndarray) -> h5py.Dataset:
+@dataclass
+class SparseColumns:
+    """A history (nt, n, ...) held as its columns that are not all zeros: what a run in
+    independent groups keeps of each group's contact histories until the file is written
+    (city/grouped.py), a few columns of thousands."""
+
+    shape: tuple[int, ...]  # of the whole history
+    columns: np.ndarray  # (k,) the columns held, ascending
+    values: np.ndarray  # (nt, k, ...) their values
+
+    @classmethod
+    def of(cls, data: np.ndarray) -> "SparseColumns":
+        data = np.asarray(data, dtype=np.float64)
+        columns = written_columns(data)
+        return cls(data.shape, columns, data[:, columns])
+
+    @classmethod
+    def side_by_side(cls, parts: list["SparseColumns"]) -> "SparseColumns":
+        """The histories of `parts` concatenated along axis 1 (their columns renumbered)."""
+        offsets = np.cumsum([0] + [p.shape[1] for p in parts])
+        shape = (parts[0].shape[0], int(offsets[-1]), *parts[0].shape[2:])
+        return cls(shape, np.concatenate([p.columns + o for p, o in zip(parts, offsets)]).astype(np.int64),
+                   np.concatenate([p.values for p in parts], axis=1))  # fmt: skip
+
+
+def create_sparse(group: h5py.Group, name: str, data: np.ndarray | SparseColumns) -> h5py.Dataset:
     """`data` (nt, n, ...) as a chunked, compressed dataset of which only the columns with
     values are written (module docstring)."""
-    data = np.asarray(data, dtype=np.float64)
-    nt = max(data.shape[0], 1)
-    chunks = (min(nt, CHUNK_SAMPLES), 1, *data.shape[2:]) if data.size else None
-    ds = group.create_dataset(name, shape=data.shape, dtype=np.float64, chunks=chunks, fillvalue=0.0,
+    held = data if isinstance(data, SparseColumns) else SparseColumns.of(data)
+    nt = max(held.shape[0], 1)
+    chunks = (min(nt, CHUNK_SAMPLES), 1, *held.shape[2:]) if np.prod(held.shape) else None
+    ds = group.create_dataset(name, shape=held.shape, dtype=np.float64, chunks=chunks, fillvalue=0.0,
                               compression="gzip" if chunks else None, compression_opts=1 if chunks else None,
                               shuffle=bool(chunks), track_times=False)  # fmt: skip
-    columns = written_columns(data)
-    for k in columns:
-        ds[:, int(k)] = data[:, int(k)]
-    ds.attrs["stored_columns"] = columns
+    for i, k in enumerate(held.columns):
+        ds[:, int(k)] = held.values[:, i]
+    ds.attrs["stored_columns"] = held.columns
     ds.attrs["storage"] = "sparse: only stored_columns are written; every other column reads as 0"
     return ds
