@@ -117,8 +117,8 @@ instant, and only theirs are written to the result file (the HDF5 layout in the
 
 The whole `pound run`, in a process of its own: wall time, peak memory (maximum resident set),
 the result file; the last row is 10 such blocks across 20 m streets, run as independent groups
-on 2 local processes (`--jobs 2`). Measured on the 2-core machine of [bench](bench.md), shared
-with other work while it ran: compare rows, not machines.
+on 2 local processes (`--jobs 2`). Measured on a 2-core machine (the table is
+docs/bench/city-scaling.md, of the last `pound bench --scaling --blocks`): compare rows, not machines.
 
 {scaling}
 ![Whole run and per-building time, peak memory against buildings](images/city-scaling.png)
