@@ -251,3 +251,13 @@ def test_a_sigterm_while_groups_are_written_stops_at_once_with_nothing_written(t
     _, stderr = run.communicate(timeout=120)
     assert run.returncode == 1 and stderr.strip().splitlines()[-1] == "interrupted", stderr
     assert "Traceback" not in stderr and list(out.parent.iterdir()) == []
+
+
+def test_a_district_of_more_than_a_thousand_buildings_is_a_valid_model(tmp_path):
+    """A district of thousands runs as its independent groups (10,000 measured: issue 30's
+    note); the model took at most 1,000 buildings. 1,001 validate now."""
+    from pounding_cli.model import validate_model
+
+    buildings = district_buildings(Block(rows=10, cols=10), 11, 1)[:1001]
+    doc = city_document(buildings, "1001 buildings", record_dir=str(REPO / "inputs" / "records"))
+    assert len(validate_model(doc, tmp_path / "district.toml").model.buildings) == 1001

@@ -361,6 +361,28 @@ def test_a_second_sweep_into_a_busy_folder_is_refused(tmp_path):
 # --- Dask ------------------------------------------------------------------------------------------
 
 
+def _square(x):
+    return x * x
+
+
+def test_dask_executor_keeps_at_most_twice_the_worker_threads_of_tasks_untaken():
+    """A worker holds a finished task's result until it is taken; a district's groups return
+    a hundred buildings' histories each. DaskExecutor.run submits at most 2 × the cluster's
+    threads ahead of what it has yielded, so the results waiting never exceed that (+ the
+    one being taken), and still yields every outcome once."""
+    distributed = pytest.importorskip("distributed")
+    from pounding_cli.sweep.cluster import DaskExecutor
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            held, seen = [], {}
+            for key, ok, value in DaskExecutor(client).run([(k, _square, (k,)) for k in range(20)]):
+                held.append(len(client.who_has()))
+                seen[key] = (ok, value)
+    assert seen == {k: (True, k * k) for k in range(20)}
+    assert max(held) <= 2 * 2 + 1, held
+
+
 def test_dask_cluster_gives_the_same_results(two_jobs, tmp_path):
     distributed = pytest.importorskip("distributed")
     outcome, _ = two_jobs

@@ -45,8 +45,8 @@ def components(n: int, pairs: Iterable[tuple[int, int]]) -> list[list[int]]:
 def group_document(document: dict[str, Any], members: list[int], reach: float) -> dict[str, Any]:
     """The model document of one group: its buildings only, with the scene's reach fixed (so
     that the group prunes as the whole scene would)."""
-    doc = copy.deepcopy(document)
-    doc["buildings"] = [doc["buildings"][k] for k in members]
+    doc = {key: copy.deepcopy(value) for key, value in document.items() if key != "buildings"}
+    doc["buildings"] = [copy.deepcopy(document["buildings"][k]) for k in members]  # not all of them: O(N) a group
     doc.setdefault("contact", {})["reach"] = reach
     return doc
 
@@ -55,12 +55,13 @@ def run_group(document: dict[str, Any], source: str, members: list[int], strict:
               ) -> tuple[RunResult | None, list[Notice], Notice | None]:  # fmt: skip
     """Validate, prepare and run one group's model (in a worker process): (its result, its
     plausibility warnings, what refused it), fields named as in the whole model
-    (whole_model_notice). A group its own set-up refuses (an InputError: the resource limits)
+    (whole_model_notice), its contact histories sparse (with_sparse_contact). A group its own set-up refuses (an InputError: the resource limits)
     does not run: (None, [], that refusal). With `strict`, a group with warnings does not run
     either (None): the whole run is refused, as `pound run --strict` refuses it."""
     from ..api import execute, prepare
     from ..errors import InputError
     from ..model import validate_model
+    from ..results.grouped_file import with_sparse_contact
 
     try:
         scene = prepare(validate_model(document, Path(source)))
@@ -70,7 +71,7 @@ def run_group(document: dict[str, Any], source: str, members: list[int], strict:
     found = [whole_model_notice(n, members) for n in scene.notices]
     if strict and found:
         return None, found, None
-    return execute(scene), found, None
+    return with_sparse_contact(execute(scene)), found, None
 
 
 def whole_model_notice(notice: Notice, members: list[int]) -> Notice:

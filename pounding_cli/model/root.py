@@ -31,8 +31,9 @@ class PoundModel(Strict):
     bearings: dict[Name, Bearing] = {}
     """Isolation bearing types by name, referred to by isolators."""
 
-    buildings: Annotated[list[Building], Field(min_length=1, max_length=1000)]
-    """The buildings, each with its own floors, columns and damping."""
+    buildings: Annotated[list[Building], Field(min_length=1, max_length=100_000)]
+    """The buildings, each with its own floors, columns and damping (a district of thousands runs
+    as its independent groups: `pound run --jobs` or `--scheduler`)."""
 
     excitation: Excitation
     """The ground motion."""

@@ -79,10 +79,17 @@ def without_histories(result: RunResult) -> RunResult:
     """`result` with its buildings' histories (time along axis 0) replaced by arrays of no
     samples and its contact histories by their columns that are not all zeros; the time
     axis, ground motion, energies, peaks, impact log and diagnostics are kept."""
+    return replace(with_sparse_contact(result),
+                   buildings={n: _building_without_histories(b) for n, b in result.buildings.items()})  # fmt: skip
+
+
+def with_sparse_contact(result: RunResult) -> RunResult:
+    """`result` with its contact histories as their columns that are not all zeros
+    (SparseColumns): what a group's worker sends back (a hundred buildings' candidates hold
+    ~190 MB of histories densely, nearly all zeros)."""
     c = result.contact
-    contact = replace(c, **{name: SparseColumns.of(getattr(c, name)) for name in HISTORIES})
-    return replace(result, buildings={n: _building_without_histories(b) for n, b in result.buildings.items()},
-                   contact=contact)  # fmt: skip
+    sparse = {name: h if isinstance(h := getattr(c, name), SparseColumns) else SparseColumns.of(h) for name in HISTORIES}
+    return replace(result, contact=replace(c, **sparse))
 
 
 HISTORIES = ("normal_force", "tangential_force", "area", "action_point", "depth")

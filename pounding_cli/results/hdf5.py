@@ -72,7 +72,7 @@ def _dataset(group: h5py.Group, name: str, data: np.ndarray, units: str, dims: t
     ds.attrs["units"] = units
     for key, value in attrs.items():
         ds.attrs[key] = value
-    _dims(ds, *dims)
+    _dims(ds, *dims, group=group)
     return ds
 
 
@@ -98,11 +98,11 @@ def _labels(group: h5py.Group, name: str, labels: list[str], description: str = 
     return _scale(group, name, np.array(labels, dtype=object), "-", description)
 
 
-def _dims(ds: h5py.Dataset, *scales: h5py.Dataset) -> None:
-    """Attach `scales` to the axes of `ds` in order. A scale kept in another group is also
-    linked into ds's group under its name (an HDF5 hard link, not a copy), so that opening
-    that group alone gives it as a coordinate."""
-    group = ds.parent
+def _dims(ds: h5py.Dataset, *scales: h5py.Dataset, group: h5py.Group | None = None) -> None:
+    """Attach `scales` to the axes of `ds` (in `group`) in order. A scale kept in another group
+    is also linked into ds's group under its name (an HDF5 hard link, not a copy), so that
+    opening that group alone gives it as a coordinate."""
+    group = ds.parent if group is None else group
     for axis, scale in enumerate(scales):
         ds.dims[axis].attach_scale(scale)
         name = scale.name.rsplit("/", 1)[-1]
