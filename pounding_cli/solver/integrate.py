@@ -269,17 +269,20 @@ def building_dofs(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
 
 def stiffness_blocks(structure: StructureArrays, times: Callable = stiffness_times) -> list[np.ndarray]:
     """Dense K of every building, column by column from the solver's own storey kernel (or
-    the dense matrix of another operator `times`, e.g. damping_times)."""
+    the dense matrix of another operator `times`, e.g. damping_times). Buildings share no
+    storey or damping link, so column j of every building comes from one product with a unit
+    entry in each of them: the same sums, storey by storey, as one building at a time, in
+    (DOFs of the largest building) products rather than (all DOFs)."""
     starts, counts = building_dofs(structure)
     x = np.zeros(structure.mass.size + 3)
-    blocks = []
-    for d0, n in zip(starts, counts):
-        k = np.empty((n, n))
-        for j in range(n):
-            x[:] = 0.0
-            x[d0 + j] = 1.0
-            k[:, j] = times(structure, x)[d0 : d0 + n]
-        blocks.append(k)
+    blocks = [np.empty((n, n)) for n in counts]
+    for j in range(int(counts.max(initial=0))):
+        x[:] = 0.0
+        x[(starts + j)[counts > j]] = 1.0
+        column = times(structure, x)
+        for k, d0, n in zip(blocks, starts, counts):
+            if j < n:
+                k[:, j] = column[d0 : d0 + n]
     return blocks
 
 
