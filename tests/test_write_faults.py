@@ -121,6 +121,26 @@ def test_sweep_into_a_full_disk(small_disk: Path, tmp_path: Path) -> None:
     assert leftovers(small_disk) == []
 
 
+def test_run_in_groups_into_a_full_disk(small_disk: Path, tmp_path: Path) -> None:
+    """`pound run --jobs 1` of three independent groups, each written into the file as it
+    ends (results/grouped_file.py), on a disk with room for part of it: exit 2 "cannot write
+    the file", nothing left on the disk."""
+    import tomli_w
+
+    from pounding_cli.city.block import Block, city_document, district_buildings
+
+    doc = city_document(district_buildings(Block(rows=2, cols=2), 3, 1), "three blocks",
+                        record_dir=str(Path(__file__).resolve().parents[1] / "inputs" / "records"), duration=4.0)  # fmt: skip
+    model = tmp_path / "blocks.toml"
+    model.write_text(tomli_w.dumps(doc))
+    fill(small_disk, 300_000)
+    done = pound("run", model, "-o", small_disk / "out.h5", "--no-progress", "--jobs", "1", cwd=tmp_path)
+    assert done.returncode == 2, done.stderr[-2000:]
+    assert f"{small_disk / 'out.h5'}: cannot write the file (No space left on device)" in done.stderr, done.stderr
+    assert "Traceback" not in done.stderr
+    assert leftovers(small_disk) == []
+
+
 # --- a simulated full disk, at every write ------------------------------------------------
 
 
