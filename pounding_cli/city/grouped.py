@@ -34,7 +34,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     from ..model import load_model, read_document
     from ..model.placement import stored_json
     from ..plausibility import Notice
-    from .groups import components, merge, run_groups, split_allowed
+    from .groups import components, group_labels, merge, run_groups, split_allowed
     from .reach import REACH_FACTOR, check_pruned, measured_excursions, scene_reach
     from ..results.grouped_file import contact_without_samples, grouped_file
     from ..sweep.run import open_executor
@@ -51,9 +51,7 @@ def run_in_groups(model: str | Path, output: Path, jobs: int | None = None, sche
     check_group_memory(loaded, system, ground.duration, near, groups)
     check_output_path(output, force)
     names = [b.name for b in system.buildings]
-    label = np.empty(len(names), dtype=np.int64)
-    for g, members in enumerate(groups):
-        label[members] = g
+    label = group_labels(len(names), groups)
     shapes = outlines(system.buildings)
     try:
         with grouped_file(output, names) as stream:
@@ -103,10 +101,10 @@ def check_group_memory(loaded: Any, system: Any, record_duration: float, near: f
     analysis = loaded.model.analysis
     duration = analysis.duration if analysis.duration is not None else record_duration
     samples = int(duration / analysis.output_interval) + 1
+    from .groups import group_labels
+
     members = np.bincount(system.members.building, minlength=len(system.buildings))
-    label = np.empty(len(system.buildings), dtype=np.int64)
-    for g, group in enumerate(groups):
-        label[group] = g
+    label = group_labels(len(system.buildings), groups)
     within = [set() for _ in groups]  # type: list[set[tuple[int, int]]]
     for i, j in near or ():
         within[label[i]].add((i, j))

@@ -42,6 +42,14 @@ def components(n: int, pairs: Iterable[tuple[int, int]]) -> list[list[int]]:
     return sorted(groups.values(), key=lambda g: g[0])
 
 
+def group_labels(n: int, groups: list[list[int]]) -> np.ndarray:
+    """(n,) the group of each building."""
+    label = np.empty(n, dtype=np.int64)
+    for g, members in enumerate(groups):
+        label[members] = g
+    return label
+
+
 def group_document(document: dict[str, Any], members: list[int], reach: float) -> dict[str, Any]:
     """The model document of one group: its buildings only, with the scene's reach fixed (so
     that the group prunes as the whole scene would)."""
@@ -55,9 +63,10 @@ def run_group(document: dict[str, Any], source: str, members: list[int], strict:
               ) -> tuple[RunResult | None, list[Notice], Notice | None]:  # fmt: skip
     """Validate, prepare and run one group's model (in a worker process): (its result, its
     plausibility warnings, what refused it), fields named as in the whole model
-    (whole_model_notice), its contact histories sparse (with_sparse_contact). A group its own set-up refuses (an InputError: the resource limits)
-    does not run: (None, [], that refusal). With `strict`, a group with warnings does not run
-    either (None): the whole run is refused, as `pound run --strict` refuses it."""
+    (whole_model_notice), its contact histories sparse (with_sparse_contact). A group its own
+    set-up refuses (an InputError: the resource limits) does not run: (None, [], that
+    refusal). With `strict`, a group with warnings does not run either (None): the whole run
+    is refused, as `pound run --strict` refuses it."""
     from ..api import execute, prepare
     from ..errors import InputError
     from ..model import validate_model
@@ -141,8 +150,8 @@ def run_groups(document: dict[str, Any], source: str, groups: list[list[int]], r
     """Run every group through `submit` (an executor's run: tasks in, (key, ok, value) out):
     the results in group order, each as `keep` returns it when its group ends (GroupedFile.add
     writes it and keeps what the merge needs), and the plausibility warnings of all groups
-    (run_group), each once, in the order of the groups. A group that could not run is an AnalysisFailed naming it
-    and the reason, one its set-up refused the InputError it gave (exit 2); with `strict`,
+    (run_group), each once, in the order of the groups. A group that could not run is an
+    AnalysisFailed naming it and the reason, one its set-up refused the InputError it gave (exit 2); with `strict`,
     warnings are the InputError `pound run --strict` gives, once every group has answered (the
     groups without any may have run by then; nothing is written). `progress(done, total)` hears
     of each group as it answers."""

@@ -39,7 +39,8 @@ class GroupedFile:
         self.finished = False
 
     def add(self, result: RunResult) -> RunResult:
-        """Write the buildings of one group's result; returns the result without its histories
+        """Write the buildings of one group's result (its contact histories already sparse, as
+        run_group returns them); returns it without the buildings' histories
         (without_histories), which is what the merge needs."""
         with deferred():
             if self.scales is None:  # the first group: /time, /ground, and every building's group in order
@@ -77,10 +78,9 @@ def grouped_file(path: Path, names: list[str]) -> Iterator[GroupedFile]:
 
 def without_histories(result: RunResult) -> RunResult:
     """`result` with its buildings' histories (time along axis 0) replaced by arrays of no
-    samples and its contact histories by their columns that are not all zeros; the time
-    axis, ground motion, energies, peaks, impact log and diagnostics are kept."""
-    return replace(with_sparse_contact(result),
-                   buildings={n: _building_without_histories(b) for n, b in result.buildings.items()})  # fmt: skip
+    samples; the time axis, ground motion, energies, peaks, impact log, contact histories and
+    diagnostics are kept."""
+    return replace(result, buildings={n: _building_without_histories(b) for n, b in result.buildings.items()})
 
 
 def with_sparse_contact(result: RunResult) -> RunResult:
@@ -88,8 +88,7 @@ def with_sparse_contact(result: RunResult) -> RunResult:
     (SparseColumns): what a group's worker sends back (a hundred buildings' candidates hold
     ~190 MB of histories densely, nearly all zeros)."""
     c = result.contact
-    sparse = {name: h if isinstance(h := getattr(c, name), SparseColumns) else SparseColumns.of(h) for name in HISTORIES}
-    return replace(result, contact=replace(c, **sparse))
+    return replace(result, contact=replace(c, **{name: SparseColumns.of(getattr(c, name)) for name in HISTORIES}))
 
 
 HISTORIES = ("normal_force", "tangential_force", "area", "action_point", "depth")
