@@ -10,7 +10,8 @@ The Python API (the CLI is a thin layer over it)::
     gaps = pound.required_gaps(model)           # the separation each contact candidate needs
 
 Names are imported on first use, so `pound --version` and input errors answer without
-loading numba, scipy and h5py.
+loading numba, scipy and h5py. Importing pound first fixes the CPU its compiled code is
+generated for (cpu_target), so that results are the same bits on every machine that runs it.
 """
 
 from __future__ import annotations
@@ -18,7 +19,11 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from . import cpu_target
+
 __version__ = "0.1.0"
+
+cpu_target.pin_portable_target()
 
 _EXPORTS = {
     "describe": "api",

@@ -8,9 +8,9 @@ yielding step (paper_inelastic), isolation with damping links, bearings and a mo
 (isolated_moat), sweep and prune (row_of_5), double substeps (corner at ω·h / 2), the plain
 CDM (linear at Δt × 4) and a stiff contact (stiff_contact).
 
-Bits depend on more than pound's code: the CPU (numba compiles for the host, LAPACK picks
-kernels by CPU) and the versions of numba, llvmlite, numpy and scipy. The pinned file records
-these; on another platform the comparison cannot mean anything and the test says so and
+Bits depend on more than pound's code: the CPU numba compiles for and OpenBLAS's kernels
+(both fixed to Haswell's on x86-64-v3 machines, pounding_cli.cpu_target) and the versions of
+numba, llvmlite, numpy and scipy. The pinned file records these; on another platform the comparison cannot mean anything and the test says so and
 skips. To pin again, deliberately, after a change meant to move results:
 `python tests/test_bit_for_bit.py --pin`.
 Datasets added to the file since (issue 25: /diagnostics/warnings, the dimension scales and
@@ -41,6 +41,10 @@ horizon counts the pair's approach speed along the separating axis, not its spee
 20,060). Against 472ca56's results the peaks moved by at most 6.4e-11 (paper_pounding), 2.5e-12
 (stiff_contact), 2.2e-8 (corner), 1.1e-9 (row_of_5), 3.2e-7 (isolated_moat) of their largest
 value, the impacts' peak forces by at most 4.7e-7: the hand-overs' own second-order error.
+The pins were taken on a Zen 3 while numba compiled for the host ("znver3"). Since pound
+compiles for "haswell" on every x86-64-v3 machine (cpu_target), the file records that CPU: all
+seven scenes, run on a Zen 5 compiling for "haswell", gave every pinned digest (and 14 to 74 of
+each scene's 118 to 228 datasets differed compiling for the Zen 5 itself).
 """
 
 from __future__ import annotations
@@ -76,15 +80,17 @@ friction times): the table is hashed without them, as pinned, and each group apa
 
 
 def platform_key() -> dict[str, str]:
-    """What besides pound's code decides the bits."""
+    """What besides pound's code decides the bits: "cpu" is the CPU numba compiles for
+    (pounding_cli.cpu_target: "haswell" on every x86-64-v3 machine, else the host's)."""
     import llvmlite
-    import llvmlite.binding
     import numba
     import scipy
 
+    from pounding_cli.cpu_target import compile_target
+
     return {
         "machine": platform.machine(),
-        "cpu": llvmlite.binding.get_host_cpu_name(),
+        "cpu": compile_target(),
         "numba": numba.__version__,
         "llvmlite": llvmlite.__version__,
         "numpy": np.__version__,

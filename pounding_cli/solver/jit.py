@@ -15,12 +15,17 @@ Dense products (the exact propagator, the storey stiffness, the CDM's block solv
 `fastmath=REASSOCIATE`: LLVM may reorder their sums and fuse multiply-adds, which lets it
 vectorise the dot products. Results then differ from strictly sequential summation in the
 last bits, identically from run to run on one machine. No other fast-math flag is set: NaN
-and infinity keep their meaning, on which the divergence checks rely.
+and infinity keep their meaning, on which the divergence checks rely. Which CPU's vector
+instructions LLVM may use is fixed (cpu_target), so that these last bits are the same on every
+machine that runs them.
 """
 
 from __future__ import annotations
 
 from numba import njit
+from numba.core import config
+
+config.reload_config()  # the CPU target pound's import chose (cpu_target), should numba have been imported before it
 
 REASSOCIATE = {"reassoc", "contract"}
 """fast-math flags for dense sums: reorder and fuse, nothing else."""
