@@ -113,6 +113,8 @@ def _impacts(r: Any) -> Table:
 
 
 def _contact(r: Any) -> Table:
+    from .results.sparse import held
+
     c = r.contact
     columns = [("time", "s"), ("pair", ""), ("body_a", ""), ("floor_a", ""), ("body_b", ""), ("floor_b", ""),
                ("normal_force", "N"), ("tangential_force", "N"), ("area", "m2"), ("depth", "m"), ("x", "m"),
@@ -120,9 +122,9 @@ def _contact(r: Any) -> Table:
 
     def rows() -> Iterator[list[Any]]:
         pairs = [[_plain(p[k]) for k in ("body_a", "floor_a", "body_b", "floor_b")] for p in c.pairs]
+        histories = [held(a) for a in (c.normal_force, c.tangential_force, c.area, c.depth, c.action_point)]
         for k, t in enumerate(r.time.tolist()):
-            fn, ft, area, depth = (a[k].tolist() for a in (c.normal_force, c.tangential_force, c.area, c.depth))
-            point = c.action_point[k].tolist()
+            fn, ft, area, depth, point = (a.row(k).tolist() for a in histories)
             for p, names in enumerate(pairs):
                 yield [t, p, *names, fn[p], ft[p], area[p], depth[p], *point[p]]
 

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..results.sparse import held
 from .load import Run
 from .style import IMPACT_COLOUR, colour, figure, grid
 
@@ -41,7 +42,8 @@ def impact_figure(run: Run, whole_run: bool = False) -> Figure:
     c = r.contact
     fig = figure(10.0, 5.5)
     axes = fig.subplots(2, 2, width_ratios=[2, 1])
-    touched = sorted({int(p) for p in c.events["pair"]} | set(np.flatnonzero((c.normal_force > 0).any(axis=0)).tolist()))
+    f_n = held(c.normal_force)
+    touched = sorted({int(p) for p in c.events["pair"]} | set(f_n.columns[(f_n.values > 0).any(axis=0)].tolist()))
     for column in (0, 1):
         _draw(axes[:, column], run, touched)
     axes[0, 0].sharex(axes[1, 0])
@@ -78,10 +80,11 @@ def impact_figure(run: Run, whole_run: bool = False) -> Figure:
 def _draw(axes: np.ndarray, run: Run, touched: list[int]) -> None:
     """Histories of the touched pairs and the log's stems on a (force, area) pair of axes."""
     r, c = run.result, run.result.contact
+    f_n, area = held(c.normal_force), held(c.area)
     for i, p in enumerate(touched):
         label = f"{pair_label(c.pairs[p])} (every {_step(run):.3g} s)"
-        axes[0].plot(r.time, c.normal_force[:, p] / 1e3, lw=0.8, marker=".", ms=2, color=colour(i), label=label)
-        axes[1].plot(r.time, c.area[:, p] * 1e4, lw=0.8, marker=".", ms=2, color=colour(i), label=label)
+        axes[0].plot(r.time, f_n.column(p) / 1e3, lw=0.8, marker=".", ms=2, color=colour(i), label=label)
+        axes[1].plot(r.time, area.column(p) * 1e4, lw=0.8, marker=".", ms=2, color=colour(i), label=label)
     if c.events.size:
         ends = np.where(np.isnan(c.events["t_end"]), r.time[-1], c.events["t_end"])
         for ax, values in ((axes[0], c.events["peak_normal_force"] / 1e3), (axes[1], c.events["peak_area"] * 1e4)):

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Sequence
 import numpy as np
 
 from ..assembly.levels import LEVEL_TOLERANCE
+from ..results.sparse import held
 from .geometry import (
     PlanGeometry, displacement_at, moved, nice_magnification, plan_geometry, point_displacement, storey_displacement_at,
 )  # fmt: skip
@@ -119,15 +120,16 @@ def contact_normal(poly_a: np.ndarray, poly_b: np.ndarray) -> np.ndarray:
 def peak_instant(run: Run, geometry: PlanGeometry) -> Instant:
     """The instant of peak impact force (see the module's docstring for the three cases)."""
     r, c = run.result, run.result.contact
-    if c.normal_force.size and (c.normal_force > 0).any():
-        k = int(np.argmax(c.normal_force.sum(axis=1)))
+    f_n = held(c.normal_force)  # the pairs that touched: a few columns of a district's thousands
+    if f_n.values.size and (f_n.values > 0).any():
+        k = int(np.argmax(f_n.values.sum(axis=1)))
         t = float(r.time[k])
         marks = []
-        for p in np.flatnonzero(c.normal_force[k] > 0):
+        point, f_t = held(c.action_point).row(k), held(c.tangential_force).row(k)
+        for p in f_n.columns[f_n.values[k] > 0]:
             a, b = _pair_bodies(c.pairs[p])
             normal = contact_normal(_outline(run, geometry, a, t), _outline(run, geometry, b, t))
-            marks.append(ContactMark(int(p), a, b, c.action_point[k, p], normal, float(c.normal_force[k, p]),
-                                     float(c.tangential_force[k, p])))  # fmt: skip
+            marks.append(ContactMark(int(p), a, b, point[p], normal, float(f_n.column(p)[k]), float(f_t[p])))
         total = sum(m.f_normal for m in marks)
         text = f"largest sampled impact force {total / 1e6:.3g} MN"
         if c.events.size and c.peak_force > 1.001 * total:

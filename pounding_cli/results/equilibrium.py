@@ -33,7 +33,7 @@ def storey_residuals(b, damping: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  
     m = np.column_stack([b.floor_mass[:, 0], b.floor_mass])  # m, m, J per floor
     inertia = about_origin(m * b.acceleration, b.mass_centre)
     cv = (damping @ b.velocity.reshape(nt, -1).T).T.reshape(nt, n, 3)
-    net = about_origin(m * b.acceleration + cv - b.forces.floor_contact, b.mass_centre)
+    net = about_origin(m * b.acceleration + cv - np.asarray(b.forces.floor_contact), b.mass_centre)
     above = np.cumsum(net[:, ::-1], axis=1)[:, ::-1]  # Σ over the floors j ≥ s
     size = np.cumsum((np.abs(net) + np.abs(inertia))[:, ::-1], axis=1)[:, ::-1].max(axis=0)
     return b.forces.storey_shear[:, :, 3:] + above, size

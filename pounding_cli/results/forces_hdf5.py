@@ -3,10 +3,14 @@ peaks beside the others in /buildings/<name>/peaks (docs/user-guide.md, "HDF5 la
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import h5py
+import numpy as np
 
 from ..assembly.force_gauges import STOREY_COMPONENTS, STOREY_UNITS
 from .hdf5 import _dataset, _labels
+from .sparse import read_sparse
 from .result import ForceResult
 
 STOREY_DESCRIPTION = ("the resultant of the forces the storey's columns (or bearings) carry, positive along their "
@@ -46,19 +50,21 @@ def write_forces(g: h5py.Group, peaks: h5py.Group, f: ForceResult, time: h5py.Da
              description="peak " + MOMENT_DESCRIPTION)  # fmt: skip
 
 
-def read_forces(g: h5py.Group) -> ForceResult | None:
-    """A building's forces from its group (None in files written before they existed)."""
+def read_forces(g: h5py.Group, arrays: Callable[[h5py.Dataset], np.ndarray]) -> ForceResult | None:
+    """A building's forces from its group (None in files written before they existed); its
+    histories through `arrays` (hdf5.read_hdf5's FileArrays: mapped from the file), the contact
+    forces on its floors as their stored columns (sparse.read_sparse: floors that were struck)."""
     if "forces" not in g:
         return None
     forces, peaks = g["forces"], g["peaks"]
     return ForceResult(
-        storey_shear=forces["storey_shear"][()],
-        base_shear=forces["base_shear"][()],
-        floor_contact=forces["floor_contact"][()],
+        storey_shear=arrays(forces["storey_shear"]),
+        base_shear=arrays(forces["base_shear"]),
+        floor_contact=read_sparse(forces["floor_contact"]),
         peak_storey_shear=peaks["storey_shear"][()],
         peak_base_shear=peaks["base_shear"][()],
         peak_column_shear=peaks["column_shear"][()],
         peak_column_moment=peaks["column_moment"][()],
-        column_shear=forces["column_shear"][()] if "column_shear" in forces else None,
-        column_moment=forces["column_moment"][()] if "column_moment" in forces else None,
+        column_shear=arrays(forces["column_shear"]) if "column_shear" in forces else None,
+        column_moment=arrays(forces["column_moment"]) if "column_moment" in forces else None,
     )

@@ -29,7 +29,8 @@ from .result import (
     YieldingResult,
 )
 from .column_demand import DEMAND_DTYPE, DEMAND_UNITS
-from .sparse import create_sparse
+from .file_arrays import ALIGNMENT, MAP_BYTES, FileArrays
+from .sparse import create_sparse, read_sparse
 
 EVENT_UNITS = "-, -, -, s, s, N, N*s, m2, m, m, m, -, -, m, s, -, N, -, -, -, -, s, s, -"
 PAIR_UNITS = "-, -, -, -, m, N/m2, N/m, -, -"
@@ -131,7 +132,8 @@ def write_hdf5(result: RunResult, path: str | Path) -> Path:
 
 def file_options(buildings: int) -> dict[str, Any]:
     """h5py.File's options for a result file of this many buildings."""
-    return {"track_order": True, **({"libver": ("v108", "v108")} if buildings > DENSE_ATTRIBUTES_BUILDINGS else {})}
+    return {"track_order": True, "alignment_threshold": MAP_BYTES, "alignment_interval": ALIGNMENT,
+            **({"libver": ("v108", "v108")} if buildings > DENSE_ATTRIBUTES_BUILDINGS else {})}  # fmt: skip
 
 
 def _write(f: h5py.File, r: RunResult) -> None:
@@ -329,10 +331,14 @@ def _write_yielding(g: h5py.Group, y: YieldingResult, time: h5py.Dataset) -> Non
 
 
 def read_hdf5(path: str | Path) -> RunResult:
-    """Read a result file written by :func:`write_hdf5`."""
+    """Read a result file written by :func:`write_hdf5`. The buildings' histories are mapped
+    from the file, not read (file_arrays: the operating system reads what is used), and the
+    contact histories are read as their stored columns (sparse.SparseColumns, np.asarray
+    gives the whole array), so that a district's file reads in a fraction of its size."""
     path = Path(path)
+    arrays = FileArrays(path)
     with h5py.File(path, "r") as f:
-        buildings = {name: _read_building(g) for name, g in f["buildings"].items()}
+        buildings = {name: _read_building(g, arrays) for name, g in f["buildings"].items()}
         return RunResult(
             time=f["time"][()],
             ground_acceleration=f["ground/acceleration"][()],
@@ -371,26 +377,26 @@ def _read_contact(g: h5py.Group) -> ContactResult:
 
     return ContactResult(
         pairs=table("pairs", PAIR_DTYPE),
-        normal_force=g["normal_force"][()],
-        tangential_force=g["tangential_force"][()],
-        area=g["area"][()],
-        action_point=g["action_point"][()],
-        depth=g["depth"][()],
+        normal_force=read_sparse(g["normal_force"]),
+        tangential_force=read_sparse(g["tangential_force"]),
+        area=read_sparse(g["area"]),
+        action_point=read_sparse(g["action_point"]),
+        depth=read_sparse(g["depth"]),
         events=table("events", EVENT_DTYPE),
         column_demand=table("column_demand", DEMAND_DTYPE) if "column_demand" in g else None,
     )
 
 
-def _read_building(g: h5py.Group) -> BuildingResult:
+def _read_building(g: h5py.Group, arrays: FileArrays) -> BuildingResult:
     from .forces_hdf5 import read_forces  # it builds on this module's helpers
 
     cols = g["columns"][()]
     floors = g["floors"][()]
     return BuildingResult(
         name=g.name.rsplit("/", 1)[-1],
-        displacement=g["displacement"][()],
-        velocity=g["velocity"][()],
-        acceleration=g["acceleration"][()],
+        displacement=arrays(g["displacement"]),
+        velocity=arrays(g["velocity"]),
+        acceleration=arrays(g["acceleration"]),
         column_names=[n.decode() if isinstance(n, bytes) else str(n) for n in cols["name"]],
         column_local=np.column_stack([cols["x"], cols["y"]]),
         column_plan=np.column_stack([cols["X"], cols["Y"]]),
@@ -405,22 +411,22 @@ def _read_building(g: h5py.Group) -> BuildingResult:
         periods=g["modes/period"][()],
         participation=g["modes/participating_mass_ratio"][()],
         rayleigh=(float(g["modes"].attrs["rayleigh_a0"]), float(g["modes"].attrs["rayleigh_a1"])),
-        yielding=_read_yielding(g["yielding"]) if "yielding" in g else None,
+        yielding=_read_yielding(g["yielding"], arrays) if "yielding" in g else None,
         isolated=bool(g.attrs.get("isolated", False)),
         base_elevation=float(g.attrs.get("base_elevation", 0.0)),
-        forces=read_forces(g),
+        forces=read_forces(g, arrays),
     )
 
 
-def _read_yielding(g: h5py.Group) -> YieldingResult:
+def _read_yielding(g: h5py.Group, arrays: FileArrays) -> YieldingResult:
     raw = g["members"][()]
     rows = np.zeros(raw.shape, MEMBER_DTYPE)
     for field in MEMBER_DTYPE.names:
         rows[field] = [v.decode() for v in raw[field]] if MEMBER_DTYPE[field] == object else raw[field]
     return YieldingResult(
         members=rows,
-        deflection=g["deflection"][()],
-        force=g["force"][()],
+        deflection=arrays(g["deflection"]),
+        force=arrays(g["force"]),
         peak=g["peak"][()],
         residual_deflection=g["residual_deflection"][()],
     )

@@ -61,7 +61,8 @@ class ForceResult:
 
     storey_shear: np.ndarray  # (nt, n_storeys, 6) STOREY_COMPONENTS, N and N·m
     base_shear: np.ndarray  # (nt, 6) the same, of the storey on the ground
-    floor_contact: np.ndarray  # (nt, n_floors, 3) contact forces on the floors: F_x, F_y N, torque N·m about the mass centre
+    # (nt, n_floors, 3) contact forces on the floors: F_x, F_y N, torque N·m about the mass centre
+    floor_contact: np.ndarray  # (read back from a file: sparse.SparseColumns, the floors struck)
     peak_storey_shear: np.ndarray  # (n_storeys, 6) running max |·| over every step, N and N·m
     peak_base_shear: np.ndarray  # (6,)
     peak_column_shear: np.ndarray  # (n_columns, n_storeys, 2) local x, y, N
@@ -164,7 +165,9 @@ PAIR_DTYPE = np.dtype(
 
 @dataclass
 class ContactResult:
-    """Contact candidates, their force histories at the output interval and the impact log."""
+    """Contact candidates, their force histories at the output interval and the impact log.
+    The histories are arrays after a run, and sparse.SparseColumns where read from a file
+    (the pairs that touched: indexed [:, p] and [k] as the arrays; np.asarray gives them)."""
 
     pairs: np.ndarray  # (n_pairs,) PAIR_DTYPE
     normal_force: np.ndarray  # (nt, n_pairs) N
