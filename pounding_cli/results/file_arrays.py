@@ -36,7 +36,7 @@ class FileArrays:
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
-        self._map: np.memmap | None = None
+        self._map: np.memmap | None | bool = None  # False: the file cannot be mapped
 
     def __call__(self, ds: h5py.Dataset) -> np.ndarray:
         offset = ds.id.get_offset()  # None where chunked (so possibly compressed) or never written
@@ -45,6 +45,11 @@ class FileArrays:
                 or offset % dtype.itemsize or ds.external):  # fmt: skip
             return ds[()]
         if self._map is None:
-            self._map = np.memmap(self.path, dtype=np.uint8, mode="c")
+            try:
+                self._map = np.memmap(self.path, dtype=np.uint8, mode="c")
+            except (OSError, ValueError):  # a file system that cannot map files: read them
+                self._map = False
+        if self._map is False:
+            return ds[()]
         return np.ndarray(ds.shape, dtype, buffer=self._map, offset=offset)
 
