@@ -170,6 +170,7 @@ def test_a_sparse_history_indexes_as_the_dense_array():
         assert_array_equal(held[k, 2], dense[k, 2])
         assert_array_equal(held.row(k), dense[k])
     assert_array_equal(held[:, 1:4], dense[:, 1:4])  # anything else: from the dense array
+    assert_array_equal(held[()], dense) and len(held) == len(dense)
     assert_array_equal(held[dense[:, 0, 0] > 0, 0], dense[dense[:, 0, 0] > 0, 0])
     for bad in (7, -8):
         with pytest.raises(IndexError):

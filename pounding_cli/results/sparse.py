@@ -50,6 +50,9 @@ class SparseColumns:
     def size(self) -> int:
         return int(np.prod(self.shape))
 
+    def __len__(self) -> int:
+        return self.shape[0]
+
     def __array__(self, dtype=None, copy=None) -> np.ndarray:
         dense = np.zeros(self.shape, dtype=np.float64)
         dense[:, self.columns] = self.values
@@ -59,6 +62,8 @@ class SparseColumns:
         """Indexed as the dense array: [:, p] (a column) and [k] (a sample) without making it,
         anything else from the dense array."""
         key = key if isinstance(key, tuple) else (key,)
+        if not key:
+            return np.asarray(self)
         whole = isinstance(key[0], slice) and key[0] == slice(None)
         if len(key) >= 2 and whole and isinstance(key[1], (int, np.integer)):
             return self.column(int(key[1]))[(slice(None), *key[2:])]
