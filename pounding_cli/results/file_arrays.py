@@ -3,11 +3,14 @@
 A district's file holds gigabytes of time histories (10,000 buildings: 29 GB) of which a report
 or a script looks at a few buildings, if any. `read_hdf5` therefore maps each large history
 that HDF5 stores contiguously and uncompressed (the buildings' histories; pound writes them so)
-into memory instead of reading it: the array is a view of one copy-on-write map of the file
-(np.memmap, mode "c"), whose pages the operating system reads when they are first touched and
-may drop again while they are unchanged. Writing into such an array changes the copy in
-memory, never the file. A file written by pound is replaced by a rename, never changed in
-place, so a map stays valid as long as the result is held. Small datasets, chunked or
+into memory instead of reading it: the array is a view of one read-only map of the file
+(np.memmap, mode "r"), whose pages the operating system reads when they are first touched and
+may drop again under memory pressure. The arrays are read-only (`.copy()` gives one to change):
+a copy-on-write map (mode "c") would be writable, but the kernel counts a private writable map
+against memory and refuses one larger than memory and swap (the 10,000-building file, 29 GB,
+on a machine of 24 GB: every history was then read, 18.6 GB). A file written by pound is
+replaced by a rename, never changed in place, so a map stays valid as long as the result is
+held. Small datasets, chunked or
 compressed ones (contact histories: results/sparse.py), and ones whose data is not aligned to
 its item size (files of pound before the alignment below) are read as before.
 
@@ -32,7 +35,8 @@ ALIGNMENT = 64
 
 
 class FileArrays:
-    """Reads the datasets of one file: large contiguous ones as views of one map of it."""
+    """Reads the datasets of one file: large contiguous ones as read-only views of one map of
+    it."""
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
@@ -46,7 +50,7 @@ class FileArrays:
             return ds[()]
         if self._map is None:
             try:
-                self._map = np.memmap(self.path, dtype=np.uint8, mode="c")
+                self._map = np.memmap(self.path, dtype=np.uint8, mode="r")
             except (OSError, ValueError):  # a file system that cannot map files: read them
                 self._map = False
         if self._map is False:
