@@ -23,7 +23,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from ..plausibility import Notice
-from ..results.result import ContactResult, RunResult
+from ..results.result import CONTACT_HISTORIES, ContactResult, RunResult
 from ..results.sparse import SparseColumns
 
 
@@ -132,14 +132,10 @@ def _merge_contact(parts: list[ContactResult]) -> ContactResult:
     events_all = np.concatenate(events)
     events_all = events_all[np.argsort(events_all["t_start"], kind="stable")]
 
-    def stack(name: str) -> SparseColumns:
-        return SparseColumns.side_by_side([getattr(c, name) for c in parts])
-
     return ContactResult(
-        pairs=np.concatenate([c.pairs for c in parts]), normal_force=stack("normal_force"),
-        tangential_force=stack("tangential_force"), area=stack("area"), action_point=stack("action_point"),
-        depth=stack("depth"), events=events_all,
+        pairs=np.concatenate([c.pairs for c in parts]), events=events_all,
         column_demand=np.concatenate([c.column_demand for c in parts]),
+        **{name: SparseColumns.side_by_side([getattr(c, name) for c in parts]) for name in CONTACT_HISTORIES},
     )  # fmt: skip
 
 

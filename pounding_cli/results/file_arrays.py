@@ -10,9 +10,9 @@ a copy-on-write map (mode "c") would be writable, but the kernel counts a privat
 against memory and refuses one larger than memory and swap (the 10,000-building file, 29 GB,
 on a machine of 24 GB: every history was then read, 18.6 GB). A file written by pound is
 replaced by a rename, never changed in place, so a map stays valid as long as the result is
-held. Small datasets, chunked or
-compressed ones (contact histories: results/sparse.py), and ones whose data is not aligned to
-its item size (files of pound before the alignment below) are read as before.
+held. Small datasets, chunked or compressed ones (contact histories: results/sparse.py), ones
+whose data is not aligned to its item size (files of pound before the alignment below), and
+any on a file system that cannot map files are read as before.
 
 pound writes large datasets aligned to ALIGNMENT bytes (h5py's alignment_threshold and
 alignment_interval, HDF5's H5Pset_alignment), so that each maps as an aligned array.

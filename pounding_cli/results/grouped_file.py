@@ -25,8 +25,8 @@ import numpy as np
 from ..atomic import atomic_stream, hdf5_writer
 from ..interrupts import checkpoint, deferred, results_written
 from .hdf5 import _write_all_but_buildings, _write_building, _write_time_and_ground, file_options
-from .result import BuildingResult, ContactResult, RunResult
-from .sparse import SparseColumns
+from .result import CONTACT_HISTORIES, BuildingResult, ContactResult, RunResult
+from .sparse import held
 
 
 class GroupedFile:
@@ -88,11 +88,7 @@ def with_sparse_contact(result: RunResult) -> RunResult:
     (SparseColumns): what a group's worker sends back (a hundred buildings' candidates hold
     ~190 MB of histories densely, nearly all zeros)."""
     c = result.contact
-    return replace(result, contact=replace(c, **{name: SparseColumns.of(getattr(c, name)) for name in HISTORIES}))
-
-
-HISTORIES = ("normal_force", "tangential_force", "area", "action_point", "depth")
-"""The contact histories of ContactResult, (nt, n_pairs[, 2])."""
+    return replace(result, contact=replace(c, **{name: held(getattr(c, name)) for name in CONTACT_HISTORIES}))
 
 
 def _none(a: np.ndarray | None) -> np.ndarray | None:
@@ -116,4 +112,4 @@ def _building_without_histories(b: BuildingResult) -> BuildingResult:
 def contact_without_samples(c: ContactResult) -> ContactResult:
     """A merged ContactResult whose histories are SparseColumns, with arrays of no samples in
     their place: what the run returns once the file holds them."""
-    return replace(c, **{name: np.zeros((0, *getattr(c, name).shape[1:])) for name in HISTORIES})
+    return replace(c, **{name: np.zeros((0, *getattr(c, name).shape[1:])) for name in CONTACT_HISTORIES})

@@ -19,6 +19,7 @@ import numpy as np
 from ..atomic import atomic_path, hdf5_writer
 from ..interrupts import checkpoint, results_written
 from .result import (
+    CONTACT_HISTORIES,
     ENERGY_NAMES,
     EVENT_DTYPE,
     MEMBER_DTYPE,
@@ -377,11 +378,7 @@ def _read_contact(g: h5py.Group) -> ContactResult:
 
     return ContactResult(
         pairs=table("pairs", PAIR_DTYPE),
-        normal_force=read_sparse(g["normal_force"]),
-        tangential_force=read_sparse(g["tangential_force"]),
-        area=read_sparse(g["area"]),
-        action_point=read_sparse(g["action_point"]),
-        depth=read_sparse(g["depth"]),
+        **{name: read_sparse(g[name]) for name in CONTACT_HISTORIES},
         events=table("events", EVENT_DTYPE),
         column_demand=table("column_demand", DEMAND_DTYPE) if "column_demand" in g else None,
     )

@@ -163,6 +163,10 @@ PAIR_DTYPE = np.dtype(
 """One row per contact candidate pair (the columns of the contact histories)."""
 
 
+CONTACT_HISTORIES = ("normal_force", "tangential_force", "area", "action_point", "depth")
+"""The contact histories of ContactResult, (nt, n_pairs[, 2]), by field name."""
+
+
 @dataclass
 class ContactResult:
     """Contact candidates, their force histories at the output interval and the impact log.

@@ -125,7 +125,7 @@ def create_sparse(group: h5py.Group, name: str, data: np.ndarray | SparseColumns
     values are written (module docstring)."""
     stored = held(data)
     nt = max(stored.shape[0], 1)
-    chunks = (min(nt, CHUNK_SAMPLES), 1, *stored.shape[2:]) if np.prod(stored.shape) else None
+    chunks = (min(nt, CHUNK_SAMPLES), 1, *stored.shape[2:]) if stored.size else None
     ds = group.create_dataset(name, shape=stored.shape, dtype=np.float64, chunks=chunks, fillvalue=0.0,
                               compression="gzip" if chunks else None, compression_opts=1 if chunks else None,
                               shuffle=bool(chunks), track_times=False)  # fmt: skip
