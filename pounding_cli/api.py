@@ -528,6 +528,8 @@ def execute(
         "exact_substeps": response.exact_substeps,
         "exact_steps_of_dt": response.exact_steps_of_dt,
         "cdm_steps": response.cdm_steps,
+        "slept_building_steps": response.slept_building_steps,
+        "sleeps": response.sleeps,
         "switches": response.switches,
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,

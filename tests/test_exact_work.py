@@ -1,5 +1,5 @@
 """The exact work of the ground and of the damping over the hybrid's exact steps
-(solver/propagator.py: the mean rows and Van Loan's damping form; hybrid.propagate), against
+(solver/propagator.py: the mean rows and Van Loan's damping form; exact.propagate), against
 an independent solution: scipy's solve_ivp of the equation of motion with the powers
 integrated by Simpson's rule, and the closed form of a damped oscillator."""
 

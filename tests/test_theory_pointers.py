@@ -8,11 +8,13 @@ import re
 from pathlib import Path
 
 THEORY = Path(__file__).resolve().parents[1] / "docs" / "theory.md"
-MODULES = ("cdm", "hybrid", "contact", "contact_geometry", "broad_phase", "peaks", "hysteresis", "propagator")
+MODULES = ("cdm", "hybrid", "exact", "sleep", "contact", "contact_geometry", "broad_phase", "peaks", "hysteresis", "propagator")
 PHASES = {
-    "cdm": ["_contact_phase", "_velocity_update", "_step_energy", "_step_output", "_position_update"],
+    "cdm": ["_contact_phase", "_velocity_update", "_step_energy", "_step_peaks", "_step_output", "_position_update"],
     "hybrid": ["_state_at_substep", "_free_span", "_propagate_free", "_hand_over_from_exact", "_cdm_substep",
-               "_within_substep", "_enter_cdm", "_leave_cdm", "exact_point"],  # fmt: skip
+               "_within_substep"],  # fmt: skip
+    "exact": ["exact_point", "exact_motion", "enter_cdm", "leave_cdm"],
+    "sleep": ["enter_awake", "catch_up", "rebalance"],
     "contact": ["_pair_frame", "_end_episode", "_normal_force", "_tangential_force", "_log_impact"],
 }
 

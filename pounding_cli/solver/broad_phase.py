@@ -172,7 +172,7 @@ def pairs_to_visit(u, bodies, broad):
     Every other pair has no overlap now and none at the last step, so visiting it would
     change nothing."""
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
-    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
+    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live, _, _ = broad
     n_hits = 0
     for g in range(group_axis.size):
         start = group_start[g]
@@ -193,12 +193,33 @@ def pairs_to_visit(u, bodies, broad):
 
 
 @kernel(inline="always")
+def phase_pairs_to_visit(broad):
+    """pairs_to_visit while buildings sleep: the phase's pairs and those in contact at the last
+    step, ascending and without repeats, into `hits`; returns their number."""
+    hits, live, phase = broad.hits, broad.live, broad.phase
+    n_hits = 0
+    for i in range(broad.n_phase[0]):
+        hits[n_hits] = phase[i]
+        n_hits += 1
+    for i in range(broad.n_live[0]):
+        hits[n_hits] = live[i]
+        n_hits += 1
+    _sort_ascending(hits, n_hits)
+    n_unique = 0
+    for i in range(n_hits):
+        if n_unique == 0 or hits[i] != hits[n_unique - 1]:
+            hits[n_unique] = hits[i]
+            n_unique += 1
+    return n_unique
+
+
+@kernel(inline="always")
 def _widened_sweep(horizon, u, v, acc, bodies, broad, first_only):
     """Sweep and prune on the boxes widened by how far each body can move within `horizon` s:
     the pairs whose widened boxes overlap, into broad's `hits` (only the first when
     first_only); returns their number, or −1 for a state with NaN (no order to sweep)."""
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
-    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live = broad
+    group_start, group_body, group_axis, index_start, index, order, bounds, hits, live, n_live, _, _ = broad
     n_hits = 0
     for g in range(group_axis.size):
         start = group_start[g]
@@ -287,6 +308,8 @@ def sweep_arrays(pair_a: np.ndarray, pair_b: np.ndarray, body_floor: np.ndarray,
         np.zeros(2 * pair_a.size, dtype=np.int64),
         np.zeros(pair_a.size, dtype=np.int64),
         np.zeros(1, dtype=np.int64),
+        np.zeros(pair_a.size, dtype=np.int64),
+        np.full(1, -1, dtype=np.int64),
     )
 
 

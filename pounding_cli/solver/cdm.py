@@ -35,7 +35,7 @@ from .jit import INTERNAL, REASSOCIATE, kernel, phase
 from .layout import E_BALANCE, E_CONTACT, E_DAMPING, E_HYSTERETIC, E_INPUT, E_KINETIC, E_STRAIN
 from .storey_bodies import forces_with_storeys
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
-from .peaks import update_peaks
+from .peaks import update_peaks_range
 from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
 
 
@@ -43,7 +43,7 @@ from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
 # the number of steps with a contact, and a flag "no earlier power to integrate from" (set at
 # the start and when an integrator takes over at an instant already accounted for); the
 # hybrid's exact steps leave their exact input and damping work in the last two
-# (hybrid.propagate)
+# (exact.propagate)
 (ACC_INPUT, ACC_DAMPING, ACC_CONTACT, ACC_P_INPUT, ACC_P_DAMPING, ACC_P_CONTACT, ACC_CONTACT_STEPS,
  ACC_FRESH, ACC_ENERGY_FLOOR, ACC_HYSTERETIC, ACC_STEP_INPUT, ACC_STEP_DAMPING) = range(12)  # fmt: skip
 N_ACC = 12
@@ -72,8 +72,20 @@ def ground_at(t, ground):
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec(x, storey_k, bottom, top, out):
     """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
-    out[:] = 0.0
-    for s in range(storey_k.shape[0]):
+    storey_matvec_range(x, storey_k, bottom, top, 0, storey_k.shape[0], out)
+
+
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
+def storey_matvec_range(x, storey_k, bottom, top, f0, f1, out):
+    """out = K·x on the floors f0 … f1 − 1 of whole buildings, from their storeys alone (storey s
+    is the one beneath floor s, so a building's storeys are its floors' numbers): the entries of
+    those floors are set, the ground's (the last three, which no one reads) cleared, the rest
+    left as they are."""
+    for d in range(3 * f0, 3 * f1):
+        out[d] = 0.0
+    for d in range(out.size - 3, out.size):
+        out[d] = 0.0
+    for s in range(f0, f1):
         b = 3 * bottom[s]
         t = 3 * top[s]
         for r in range(6):
@@ -86,9 +98,19 @@ def storey_matvec(x, storey_k, bottom, top, out):
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec_pair(x, y, storey_k, bottom, top, kx, ky):
     """kx = K·x and ky = K·y in one pass over the storeys (as storey_matvec, twice)."""
-    kx[:] = 0.0
-    ky[:] = 0.0
-    for s in range(storey_k.shape[0]):
+    storey_matvec_pair_range(x, y, storey_k, bottom, top, 0, storey_k.shape[0], kx, ky)
+
+
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
+def storey_matvec_pair_range(x, y, storey_k, bottom, top, f0, f1, kx, ky):
+    """storey_matvec_pair on the floors f0 … f1 − 1 of whole buildings (as storey_matvec_range)."""
+    for d in range(3 * f0, 3 * f1):
+        kx[d] = 0.0
+        ky[d] = 0.0
+    for d in range(kx.size - 3, kx.size):
+        kx[d] = 0.0
+        ky[d] = 0.0
+    for s in range(f0, f1):
         b = 3 * bottom[s]
         t = 3 * top[s]
         for r in range(6):
@@ -110,9 +132,23 @@ def damping_force(v, kv, mass, damping, n_dof, out):
     link matrices (n, 6, 6), bottom and top floors (n,)): the links are 6×6 blocks on two
     floors' DOFs (the ground, an extra zero floor, for a bottom) that make an isolated
     building's C its superstructure's on its deformation (assembly/damping.py); none else."""
-    a0, a1, link, link_bottom, link_top = damping
-    for d in range(n_dof):
+    damping_force_range(v, kv, mass, damping, 0, n_dof, out)
+
+
+@kernel(**INTERNAL)
+def damping_force_range(v, kv, mass, damping, d0, d1, out):
+    """damping_force on the DOFs d0 … d1 − 1 of whole buildings, and the links whole (scenes
+    with links never put a building to sleep, sleep.py: there the range is every DOF)."""
+    a0, a1 = damping[0], damping[1]
+    for d in range(d0, d1):
         out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
+    damping_links(v, damping, out)
+
+
+@kernel(**INTERNAL)
+def damping_links(v, damping, out):
+    """Adds the links' part Σ links·v of C·v to out (damping_force; no links: nothing)."""
+    link, link_bottom, link_top = damping[2], damping[3], damping[4]
     for k in range(link.shape[0]):
         b = 3 * link_bottom[k]
         t = 3 * link_top[k]
@@ -127,6 +163,20 @@ def damping_force(v, kv, mass, damping, n_dof, out):
 def solve_blocks(binv, dof_start, dof_count, r, out):
     """out = blockdiag(B⁻¹)·r, one dense block per building."""
     for b in range(dof_start.size):
+        d0 = dof_start[b]
+        n = dof_count[b]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += binv[b, i, j] * r[d0 + j]
+            out[d0 + i] = acc
+
+
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
+def solve_listed(binv, dof_start, dof_count, blocks, n_blocks, r, out):
+    """solve_blocks for the buildings blocks[0 … n_blocks − 1] alone."""
+    for k in range(n_blocks):
+        b = blocks[k]
         d0 = dof_start[b]
         n = dof_count[b]
         for i in range(n):
@@ -198,67 +248,89 @@ def write_output(k, u, v, a_abs, ku, agx, agy, mass, acc, pair_now, fc, out, e_p
 
 
 @phase
-def _contact_phase(n, dt, motion, dv, contact):
+def _contact_phase(n, dt, motion, dv, contact, awake):
     """Contact forces at t_n from the displaced outlines into contact.force (zero without
     candidates): broad phase, narrow phase, impact law (contact.contact_forces; struck storeys as virtual floors,
     storey_bodies.py), with the
-    dashpots' velocity v_n ≈ v_{n−½} + Δv_{n−1}/2 (dv still holds the last step's)."""
+    dashpots' velocity v_n ≈ v_{n−½} + Δv_{n−1}/2 (dv still holds the last step's) of the
+    awake buildings (a sleeping one has no pair that can touch)."""
     contact.force[:] = 0.0
     if contact.law.a.size > 0:
-        for d in range(motion.u.size - 3):
-            contact.v_est[d] = motion.v_half[d] + 0.5 * dv[d]
+        runs = awake.runs
+        for i in range(awake.n_runs[0]):
+            for d in range(3 * runs[i, 0], 3 * runs[i, 1]):
+                contact.v_est[d] = motion.v_half[d] + 0.5 * dv[d]
         if forces_with_storeys(n, dt, motion.u, motion.v_half, contact.v_est, contact) > 0:
             motion.energy[ACC_CONTACT_STEPS] += 1.0
 
 
 @phase
-def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
+def _velocity_update(agx, agy, step, structure, motion, work, fc, g, awake):
     """r_n = p_n − K·u_n − C·v_{n−½} + F_contact + g; Δv_n = B⁻¹·r_n; the state at t_n
     (v_n = v_{n−½} + Δv_n/2, a_n = Δv_n/Δt plus the ground's); v_{n+½} = v_{n−½} + Δv_n and
-    the step's one mat-vec z = K·v_{n+½}, with C·v_{n+½} from it."""
+    the step's one mat-vec z = K·v_{n+½}, with C·v_{n+½} from it; for the awake buildings."""
     mass, ku, cv_half, v_half = structure.mass, motion.ku, motion.cv_half, motion.v_half
     r, dv, v, a_abs = work.r, work.dv, work.v, work.a_abs
-    n_dof = mass.size
-    n_floors = n_dof // 3
-    for f in range(n_floors):
-        d = 3 * f
-        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
-        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
-        r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
-    solve_blocks(step.inverse, structure.dof_start, structure.dof_count, r, dv)
-    for d in range(n_dof):
-        v[d] = v_half[d] + 0.5 * dv[d]
-        a_abs[d] = dv[d] / step.dt
-    for f in range(n_floors):
-        a_abs[3 * f] += agx
-        a_abs[3 * f + 1] += agy
-    for d in range(n_dof):
-        v_half[d] += dv[d]
-    storey_matvec(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, work.z)
-    damping_force(v_half, work.z, mass, structure.damping, n_dof, work.cv_next)
+    runs = awake.runs
+    for i in range(awake.n_runs[0]):
+        for f in range(runs[i, 0], runs[i, 1]):
+            d = 3 * f
+            r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
+            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
+            r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
+    for i in range(awake.n_runs[0]):
+        solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.buildings[runs[i, 6]:],
+                     runs[i, 7] - runs[i, 6], r, dv)  # fmt: skip
+    for i in range(awake.n_runs[0]):
+        d0 = 3 * runs[i, 0]
+        d1 = 3 * runs[i, 1]
+        for d in range(d0, d1):
+            v[d] = v_half[d] + 0.5 * dv[d]
+            a_abs[d] = dv[d] / step.dt
+        for f in range(runs[i, 0], runs[i, 1]):
+            a_abs[3 * f] += agx
+            a_abs[3 * f + 1] += agy
+        for d in range(d0, d1):
+            v_half[d] += dv[d]
+        storey_matvec_range(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, runs[i, 0],
+                            runs[i, 1], work.z)  # fmt: skip
+        damping_force_range(v_half, work.z, mass, structure.damping, d0, d1, work.cv_next)
 
 
 @phase
-def _step_energy(agx, agy, dt, mass, motion, work, fc):
-    """The trapezoidal step of the input, damping and contact work, from the powers at t_n
-    (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
+def _step_energy(agx, agy, dt, mass, motion, work, fc, awake):
+    """The trapezoidal step of the input, damping and contact work of the awake buildings, from
+    the powers at t_n (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
     v, cv_half, cv_next = work.v, motion.cv_half, work.cv_next
-    n_dof = mass.size
+    runs = awake.runs
     p_in = 0.0
     p_damp = 0.0
     p_contact = 0.0
-    for f in range(n_dof // 3):
-        p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
-    for d in range(n_dof):
-        p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
-        p_contact -= fc[d] * v[d]
+    for i in range(awake.n_runs[0]):
+        for f in range(runs[i, 0], runs[i, 1]):
+            p_in -= mass[3 * f] * (agx * v[3 * f] + agy * v[3 * f + 1])
+    for i in range(awake.n_runs[0]):
+        for d in range(3 * runs[i, 0], 3 * runs[i, 1]):
+            p_damp += 0.5 * v[d] * (cv_half[d] + cv_next[d])
+            p_contact -= fc[d] * v[d]
     accumulate_energy(motion.energy, dt, p_in, p_damp, p_contact)
+
+
+@phase
+def _step_peaks(motion, work, structure, peaks, awake):
+    """The running peaks of the awake buildings at t_n."""
+    runs = awake.runs
+    for i in range(awake.n_runs[0]):
+        update_peaks_range(motion.u, work.a_abs, structure, work.storey_work, peaks, runs[i, 0], runs[i, 1],
+                           runs[i, 2], runs[i, 3], runs[i, 4], runs[i, 5])  # fmt: skip
 
 
 @phase
 def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact, yielding):
     """At an output step, the state at t_n into row n / per_output (and the members'), with the
-    divergence and energy checks (write_output); at every step the members' peaks."""
+    divergence and energy checks (write_output); at every step the members' peaks. A sleeping
+    building's state at t_n is its exact one (sleep.py: output instants are finest-step
+    boundaries, where the sleepers' v, a and K·u are written where this reads them)."""
     has_members = yielding.plastic.shape[0] > 0
     if n % per_output == 0:
         e_plastic = 0.0
@@ -273,33 +345,38 @@ def _step_output(n, agx, agy, per_output, structure, motion, work, out, contact,
 
 
 @phase
-def _position_update(n, step, structure, motion, work, yielding):
+def _position_update(n, step, structure, motion, work, yielding, awake):
     """u_{n+1} = u_n + Δt·v_{n+½}, K·u_{n+1} = K·u_n + Δt·z (the ground entries stay zero),
-    C·v_{n+½} carried; the members' return map along the step; K·u and the plastic correction
-    recomputed from scratch at output steps, so that rounding cannot accumulate. False when a
-    displacement passes DIVERGENCE_LIMIT or is not finite."""
+    C·v_{n+½} carried, for the awake buildings; the members' return map along the step; K·u and
+    the plastic correction recomputed from scratch at output steps, so that rounding cannot
+    accumulate. False when a displacement passes DIVERGENCE_LIMIT or is not finite."""
     u, ku, cv_half = motion.u, motion.ku, motion.cv_half
     dt = step.dt
-    for d in range(structure.mass.size):
-        u[d] += dt * motion.v_half[d]
-        ku[d] += dt * work.z[d]
-        cv_half[d] = work.cv_next[d]
-        if not abs(u[d]) <= DIVERGENCE_LIMIT:
-            return False
+    runs = awake.runs
+    for i in range(awake.n_runs[0]):
+        for d in range(3 * runs[i, 0], 3 * runs[i, 1]):
+            u[d] += dt * motion.v_half[d]
+            ku[d] += dt * work.z[d]
+            cv_half[d] = work.cv_next[d]
+            if not abs(u[d]) <= DIVERGENCE_LIMIT:
+                return False
     has_members = yielding.plastic.shape[0] > 0
     if has_members:
         motion.energy[ACC_HYSTERETIC] += update_members(u, yielding.law, yielding.plastic, yielding.g)[0]
     if (n + 1) % step.per_output == 0:
-        storey_matvec(u, structure.storey_k, structure.storey_bottom, structure.storey_top, ku)
+        for i in range(awake.n_runs[0]):
+            storey_matvec_range(u, structure.storey_k, structure.storey_bottom, structure.storey_top, runs[i, 0],
+                                runs[i, 1], ku)  # fmt: skip
         if has_members:
             plastic_correction(yielding.law, yielding.plastic, yielding.g)
     return True
 
 
 @kernel
-def advance(n_start, n_stop, step, structure, ground, motion, work, peaks, out, contact, yielding):
-    """Advance steps n_start … n_stop − 1 of the CDM (step: records.CdmStep); returns
-    (STATUS_OK, n_stop), or (status, m) for the first state u_m (at t_m = m·Δt) that fails a
+def advance(n_start, n_stop, step, structure, ground, motion, work, peaks, out, contact, yielding, awake):
+    """Advance steps n_start … n_stop − 1 of the CDM (step: records.CdmStep) for the awake
+    buildings (records.Awake; all of them but where the hybrid lets buildings sleep, sleep.py);
+    returns (STATUS_OK, n_stop), or (status, m) for the first state u_m (at t_m = m·Δt) that fails a
     check: a displacement that passes DIVERGENCE_LIMIT or is not finite (NaN, ±inf; a
     non-finite velocity or force makes it so within the step) stops the run at the step that
     made it (STATUS_DIVERGED), checked at every step at the cost of one comparison per DOF.
@@ -312,13 +389,13 @@ def advance(n_start, n_stop, step, structure, ground, motion, work, peaks, out, 
     for n in range(n_start, n_stop):
         agx, agy = ground_at(n * dt, ground)
         # internal forces K·u_n and C·v_{n−½} are carried in motion.ku, motion.cv_half
-        _contact_phase(n, dt, motion, work.dv, contact)
-        _velocity_update(agx, agy, step, structure, motion, work, contact.force, yielding.g)
-        _step_energy(agx, agy, dt, structure.mass, motion, work, contact.force)
-        update_peaks(motion.u, work.a_abs, structure, work.storey_work, peaks)
+        _contact_phase(n, dt, motion, work.dv, contact, awake)
+        _velocity_update(agx, agy, step, structure, motion, work, contact.force, yielding.g, awake)
+        _step_energy(agx, agy, dt, structure.mass, motion, work, contact.force, awake)
+        _step_peaks(motion, work, structure, peaks, awake)
         status = _step_output(n, agx, agy, step.per_output, structure, motion, work, out, contact, yielding)
         if status != STATUS_OK:
             return status, n
-        if not _position_update(n, step, structure, motion, work, yielding):
+        if not _position_update(n, step, structure, motion, work, yielding, awake):
             return STATUS_DIVERGED, n + 1
     return STATUS_OK, n_stop

@@ -54,7 +54,9 @@ import numpy as np
 from .broad_phase import (
     boxes_may_meet_within,
     pairs_may_meet_within,
+    _sort_ascending,
     pairs_to_visit,
+    phase_pairs_to_visit,
     reach,
     reach_over,
 )
@@ -665,18 +667,23 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         contact.now, contact.force  # fmt: skip
     frame = contact.clip.frame
     sweeping = broad.group_axis.size > 0
-    # broad phase: the pairs whose displaced boxes may overlap
-    visits = pairs_to_visit(u, bodies, broad) if sweeping else law.a.size
+    # broad phase: the pairs whose displaced boxes may overlap (while buildings sleep: the
+    # pairs that may touch before the next substep boundary, sleep.py)
+    listed = sweeping or broad.n_phase[0] >= 0
+    if broad.n_phase[0] >= 0:
+        visits = phase_pairs_to_visit(broad)
+    else:
+        visits = pairs_to_visit(u, bodies, broad) if sweeping else law.a.size
     t_now = n * dt
     in_contact = 0
     for i in range(visits):
-        p = broad.hits[i] if sweeping else i
+        p = broad.hits[i] if listed else i
         # narrow phase: boxes, circles, the clipped overlap and its frame
         touching, gax, gay, gbx, gby = _pair_frame(p, u, bodies, law, contact.clip)
         if not touching:
             _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact)
             continue
-        if sweeping:
+        if listed:
             broad.live[in_contact] = p
         in_contact += 1
         a = law.a[p]
@@ -983,3 +990,53 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
         if not gap > closing:  # (NaN: possible)
             return False
     return True
+
+
+@kernel(**INTERNAL)
+def contact_pairs_needed(horizon, u, v, acc, contact, body_building, flag, need, keep):
+    """The buildings that the CDM must carry: need[b] = 1 for both buildings of every pair
+    that contact_ruled_out_within cannot rule out within `horizon` s (a pair in contact among
+    them), 0 for the rest. Pairs with a building whose flag is 0 are passed over (flag all
+    ones: every pair). With `keep`, those pairs become the broad phase's `phase` list, which
+    the contact step visits alone (with every pair where the state has gone bad). Returns how
+    many pairs those are (−1 for a state gone bad, when every building is needed)."""
+    bodies, broad = contact.bodies, contact.broad
+    body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
+    pair_a = contact.law.a
+    pair_b = contact.law.b
+    poly_a, poly_b = contact.clip.poly_a, contact.clip.poly_b
+    need[:] = 0
+    sweeping = broad.group_axis.size > 0
+    if sweeping:
+        candidates = pairs_may_meet_within(horizon, u, v, acc, bodies, broad)
+        if candidates < 0:
+            need[:] = 1
+            if keep:
+                broad.n_phase[0] = -1
+            return -1
+    else:
+        candidates = pair_a.size
+    hits = broad.hits
+    count = 0
+    for i in range(candidates):
+        p = hits[i] if sweeping else i
+        a = pair_a[p]
+        b = pair_b[p]
+        building_a = body_building[a]
+        building_b = body_building[b]
+        if flag[building_a] == 0 or flag[building_b] == 0:
+            continue
+        if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
+            continue
+        gap, dx, dy = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
+        closing = CLOSING_SAFETY * _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius)
+        if not gap > closing:  # (NaN: possible)
+            need[building_a] = 1
+            need[building_b] = 1
+            if keep:
+                broad.phase[count] = p
+            count += 1
+    if keep:
+        _sort_ascending(broad.phase, count)
+        broad.n_phase[0] = count
+    return count

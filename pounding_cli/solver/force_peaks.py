@@ -75,13 +75,13 @@ def gauge_floor(g, gauges):
 
 
 @kernel(inline="always")
-def update_gauge_peaks(storey_work, gauges):
-    """Running maxima of |q| of every gauge at the state whose storey deflections storey_work
-    (n_storeys, 3) holds (and whose plastic correction gauges.g holds)."""
+def update_gauge_peaks(storey_work, gauges, g0, g1):
+    """Running maxima of |q| of the gauges g0 … g1 − 1 at the state whose storey deflections
+    storey_work (n_storeys, 3) holds (and whose plastic correction gauges.g holds)."""
     peak = gauges.peak
     if gauges.plastic.shape[0] > 0:
         plastic_resultants(gauges)
-    for g in range(gauges.storey.size):
+    for g in range(g0, g1):
         if gauges.member[g] >= 0:
             continue  # a yielding column: member_states has its state's force
         s = gauges.storey[g]
@@ -92,7 +92,8 @@ def update_gauge_peaks(storey_work, gauges):
 
 
 @kernel(inline="always")
-def keep_offsets(gauges):
-    """gauges.offset = every gauge's plastic part at this state, for the exact step from it."""
-    for g in range(gauges.storey.size):
+def keep_offsets(gauges, g0, g1):
+    """gauges.offset = the plastic part of the gauges g0 … g1 − 1 at this state, for the exact
+    step from it."""
+    for g in range(g0, g1):
         gauges.offset[g] = gauge_offset(g, gauges)

@@ -30,28 +30,12 @@ HYBRID_SAMPLING, YIELD_SAMPLING); the arguments are the records of records.py.
 
 from __future__ import annotations
 
-from .cdm import (
-    ACC_DAMPING,
-    ACC_FRESH,
-    ACC_HYSTERETIC,
-    ACC_INPUT,
-    ACC_STEP_DAMPING,
-    ACC_STEP_INPUT,
-    STATUS_DIVERGED,
-    STATUS_OK,
-    accumulate_energy,
-    advance,
-    damping_force,
-    ground_at,
-    solve_blocks,
-    storey_matvec,
-    storey_matvec_pair,
-    write_output,
-)
+from .cdm import ACC_FRESH, ACC_HYSTERETIC, STATUS_DIVERGED, STATUS_OK, advance, write_output
+from .exact import enter_cdm, exact_point, leave_cdm, propagate_elastic
+from .hysteresis import member_states, plastic_energy_terms, update_members, yield_possible_within
+from .jit import kernel, phase
+from .sleep import catch_up, enter_awake, rebalance, still_needed, wake_all
 from .storey_bodies import possible_within, ruled_out_within
-from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members, yield_possible_within
-from .jit import INTERNAL, REASSOCIATE, kernel, phase
-from .peaks import peaks_between, settle_crests, update_peaks
 from .tunables import DIVERGENCE_LIMIT, ENTER_HORIZON, LEAVE_HORIZON
 
 # what the next substep does: exact (substeps of h); CDM at the contact step; CDM at the
@@ -59,19 +43,21 @@ from .tunables import DIVERGENCE_LIMIT, ENTER_HORIZON, LEAVE_HORIZON
 MODE_EXACT, MODE_CDM, MODE_CDM_YIELD, MODE_APPROACH = 0, 1, 2, 3
 # counters: exact steps (substeps and the approach's shorter ones), CDM steps, hand-overs, the
 # step (in CDM steps at the contact step) whose state failed the divergence check (−1 while
-# none has), and the time propagated exactly, in CDM steps
-CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN = range(5)
-N_COUNTERS = 5
+# none has), the time propagated exactly, in CDM steps, the CDM steps that sleeping buildings
+# did not take (summed over them), and how often a building fell asleep (sleep.py)
+CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN, CNT_SLEPT, CNT_SLEEPS = range(7)
+N_COUNTERS = 7
 N_RATES = 7  # rows of exact_point's `rates`
 
 
 @kernel
 def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield_step, propagators, exact, motion,
-                   work, peaks, out, contact, yielding, progress):  # fmt: skip
+                   work, peaks, out, contact, yielding, progress, awake):  # fmt: skip
     """Advance substeps k_start … k_stop − 1 (grid: records.Substeps); returns (status,
     substeps done). A displacement that passes DIVERGENCE_LIMIT or is not finite stops the
     run at the substep (or the CDM step) that made it: STATUS_DIVERGED, with that step (in CDM
-    steps at the contact step) in progress.counters[CNT_FAILED_STEP]. At k = grid.end, the
+    steps at the contact step) in progress.counters[CNT_FAILED_STEP]. Where awake.enabled, the
+    buildings that cannot touch sleep through the contact phases (sleep.py). At k = grid.end, the
     end of the analysis, only the state at t_k is taken (output, peaks): nothing is
     integrated past it.
 
@@ -109,12 +95,12 @@ def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield
                 continue
             # something may: approach by finer exact steps, or hand over to the CDM
             _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_step, structure, exact, motion,
-                                  work, progress)  # fmt: skip
+                                  work, progress, awake)  # fmt: skip
         if mode[0] == MODE_CDM_YIELD or levels == 0 or k == grid.end:
             # the CDM through the whole substep, then whether to hand back
             step = contact_step if mode[0] == MODE_CDM else yield_step
             status = _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, exact, motion, work,
-                                  peaks, out, contact, yielding, progress)  # fmt: skip
+                                  peaks, out, contact, yielding, progress, awake)  # fmt: skip
             if status != STATUS_OK:
                 return status, k
             if k == grid.end:
@@ -122,7 +108,7 @@ def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield
             continue
         # within the substep, finest step by finest step: exact approach steps, or the CDM
         status, done = _within_substep(k, grid, contact_step, structure, ground, propagators, exact, motion, work,
-                                       peaks, out, contact, yielding, progress)  # fmt: skip
+                                       peaks, out, contact, yielding, progress, awake)  # fmt: skip
         if status != STATUS_OK:
             return status, done
     return STATUS_OK, k_stop
@@ -204,7 +190,7 @@ def _propagate_free(k, span, grid, contact_step, structure, ground, propagators,
 
 @phase
 def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_step, structure, exact, motion, work,
-                          progress):  # fmt: skip
+                          progress, awake):  # fmt: skip
     """Something may happen within the horizon: approach a contact by finer exact steps (where
     there are levels and no member may yield), or hand the exact state at t_k to the CDM, at
     the contact step or at the yielding step."""
@@ -212,13 +198,23 @@ def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_s
         progress.mode[0] = MODE_APPROACH
         return
     progress.mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
-    _enter_cdm(contact_step.dt if contact_soon else yield_step.dt, structure, exact, motion, work)
+    _enter_cdm(contact_step.dt if contact_soon else yield_step.dt, structure, exact, motion, work, awake)
     progress.counters[CNT_SWITCHES] += 1
 
 
 @phase
+def _enter_cdm(step, structure, exact, motion, work, awake):
+    """Hand the exact state of the awake buildings at an instant already accounted for to the
+    CDM at `step` s (exact.enter_cdm)."""
+    runs = awake.runs
+    for i in range(awake.n_runs[0]):
+        enter_cdm(step, structure, exact, motion, work, runs[i, 0], runs[i, 1])
+    motion.energy[ACC_FRESH] = 1.0  # the instant is already integrated
+
+
+@phase
 def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, exact, motion, work, peaks, out, contact,
-                 yielding, progress):  # fmt: skip
+                 yielding, progress, awake):  # fmt: skip
     """The CDM through the whole substep k at `step` (the contact step, or the yielding step);
     at the analysis' end, the state at t_k only. Then, unless at the end, whether to hand back
     to the exact steps: from the contact step once no contact is live or possible within
@@ -228,7 +224,8 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
     steps = step.per_substep
     counters = progress.counters
     last = k * steps + 1 if k == grid.end else (k + 1) * steps  # at the end: the state at t_k only
-    status, failed_at = advance(k * steps, last, step, structure, ground, motion, work, peaks, out, contact, yielding)
+    status, failed_at = advance(k * steps, last, step, structure, ground, motion, work, peaks, out, contact, yielding,
+                                awake)  # fmt: skip
     if status != STATUS_OK:
         counters[CNT_FAILED_STEP] = failed_at * contact_step.per_substep // steps  # in contact steps
         return status
@@ -246,7 +243,7 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
                  ) or not yield_possible_within(LEAVE_HORIZON * h, u, v_half, a_rel, yielding.law,
                                                 yielding.plastic)  # fmt: skip
     if leave:
-        _leave_cdm((k + 1) * h, step, structure, ground, propagators, exact, motion, work, yielding)
+        leave_cdm((k + 1) * h, step, structure, ground, propagators, exact, motion, work, yielding, awake)
         progress.mode[0] = MODE_EXACT
         counters[CNT_SWITCHES] += 1
     return STATUS_OK
@@ -254,7 +251,7 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
 
 @phase
 def _within_substep(k, grid, step, structure, ground, propagators, exact, motion, work, peaks, out, contact, yielding,
-                    progress):  # fmt: skip
+                    progress, awake):  # fmt: skip
     """Substep k finest step (h/2^L) by finest step: exact steps toward a contact (MODE_APPROACH),
     halving while a contact may begin within ENTER_HORIZON of their length and handing to the
     CDM at the contact step at the finest level; or the CDM (MODE_CDM), which hands back at the
@@ -282,7 +279,10 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
                     level += 1
                     continue
                 mode[0] = MODE_CDM
-                _enter_cdm(step.dt, structure, exact, motion, work)
+                if awake.enabled:  # who sleeps until the substep's end
+                    counters[CNT_SLEEPS] += enter_awake(t_pos, max(LEAVE_HORIZON, ENTER_HORIZON * (fine - pos)) * h_fine,
+                                                        structure, motion, work, exact, contact, awake)  # fmt: skip
+                _enter_cdm(step.dt, structure, exact, motion, work, awake)
                 counters[CNT_SWITCHES] += 1
                 continue
             propagate_elastic(t_pos, size * h_fine, lev.phi[level], lev.g0[level], lev.g1[level],
@@ -303,24 +303,38 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
             if level > 1 and pos % (2 * size) == 0:
                 level -= 1  # try the coarser step: the next pass checks it
             continue
-        # MODE_CDM: the next finest step's worth of CDM steps
+        # MODE_CDM: the next finest step's worth of CDM steps (of the awake buildings; the
+        # sleeping ones exactly, sleep.py)
         n0 = k * step.per_substep + pos * q
-        status, failed_at = advance(n0, n0 + q, step, structure, ground, motion, work, peaks, out, contact, yielding)
+        status, failed_at = advance(n0, n0 + q, step, structure, ground, motion, work, peaks, out, contact, yielding,
+                                    awake)  # fmt: skip
         if status != STATUS_OK:
             counters[CNT_FAILED_STEP] = failed_at
             return status, k
         counters[CNT_CDM] += q
         pos += 1
-        for d in range(structure.mass.size):
-            a_rel[d] = work.dv[d] / step.dt  # the CDM's acceleration at the last step
-        if contact.broad.n_live[0] > 0 or not ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel,
-                                                                       contact):  # fmt: skip
+        t_pos = t + pos * h_fine
+        runs = awake.runs
+        for i in range(awake.n_runs[0]):
+            for d in range(3 * runs[i, 0], 3 * runs[i, 1]):
+                a_rel[d] = work.dv[d] / step.dt  # the CDM's acceleration at the last step
+        if awake.enabled:
+            stay = still_needed(LEAVE_HORIZON * h_fine, motion, exact, contact, awake) != 0 or contact.broad.n_live[0] > 0
+            if stay and pos < fine:
+                continue
+            counters[CNT_SLEPT] += catch_up(t_pos, h_fine, lev, structure, ground, motion, work, exact, peaks, awake,
+                                            yielding.g) * q  # fmt: skip
+            if stay:  # at the substep's end: who sleeps through the next one
+                counters[CNT_SLEEPS] += rebalance(t_pos, ENTER_HORIZON * grid.h, step, structure, ground, motion, work,
+                                                  exact, peaks, contact, awake, yielding.g)  # fmt: skip
+                continue
+        elif contact.broad.n_live[0] > 0 or not ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel, contact):
             continue
         if pos < fine and has_members and yield_possible_within(LEAVE_HORIZON * grid.h, u, v_half, a_rel,
                                                                 yielding.law, yielding.plastic):  # fmt: skip
             continue  # members may yield: the exact branch decides at the substep's end
-        t_pos = t + pos * h_fine
-        _leave_cdm(t_pos, step, structure, ground, propagators, exact, motion, work, yielding)
+        leave_cdm(t_pos, step, structure, ground, propagators, exact, motion, work, yielding, awake)
+        wake_all(awake, contact)
         counters[CNT_SWITCHES] += 1
         if pos == fine:
             mode[0] = MODE_EXACT
@@ -329,228 +343,3 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
         level = levels
         exact_point(t_pos, 0.0, structure, ground, motion, work, exact, peaks, yielding.g)
     return STATUS_OK, k + 1
-
-
-@kernel(**INTERNAL)
-def exact_state(t, structure, ground, motion, work, exact, g):
-    """K·u, C·v and the accelerations (absolute into work.a_abs, relative into exact.a_rel) at
-    time t from the exact state (motion.u, exact.v) and the members' plastic correction g.
-    Returns the ground acceleration (X, Y) at t."""
-    u, v, ku, kv, cv, a_abs, a_rel = motion.u, exact.v, motion.ku, exact.kv, work.cv_next, work.a_abs, exact.a_rel
-    mass = structure.mass
-    agx, agy = ground_at(t, ground)
-    n_dof = mass.size
-    storey_matvec_pair(u, v, structure.storey_k, structure.storey_bottom, structure.storey_top, ku, kv)
-    damping_force(v, kv, mass, structure.damping, n_dof, cv)
-    for d in range(n_dof):
-        a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
-    for d in range(0, n_dof, 3):
-        a_rel[d] = a_abs[d] - agx
-        a_rel[d + 1] = a_abs[d + 1] - agy
-        a_rel[d + 2] = a_abs[d + 2]
-    return agx, agy
-
-
-@kernel(**INTERNAL)
-def exact_point(t, gap, structure, ground, motion, work, exact, peaks, g):
-    """Everything the exact propagation owes the state (u, v) it reached at t: forces and
-    accelerations (exact_state), the energy account over the `gap` s since the last state
-    accounted for (over an exact step, the work propagate left in acc[ACC_STEP_INPUT] and
-    acc[ACC_STEP_DAMPING], exact; else trapezoidal), the peaks. When that last state was the
-    previous exact point (an open account: no hand-over since), the peaks include those of
-    the step between (peaks_between, from what exact.kept and exact.between hold of that
-    state); for the accelerations' it needs their first two rates:
-    ȧ = −M⁻¹(K·v + C·a_rel) (the ground's own rate drops out: a_abs depends on u and v
-    alone), left in rates[2], and
-    ä = −M⁻¹(K·a_rel + C·ȧ_rel) with ȧ_rel = ȧ − ȧ_g, whose part without the ground's rate ȧ_g
-    is left in rates[3] (rates[0], rates[1], rates[4]: K·a_rel, C·a_rel, C·ȧ; rates[5],
-    rates[6] hold M⁻¹·C·e_X and M⁻¹·C·e_Y, e the floors' unit translations, which carry the
-    rest: integrate.ground_rate_response). The crests peaks_between lists are valued
-    exactly (settle_crests) from the motion's derivatives at t (state_series). Returns the
-    ground acceleration (X, Y) at t."""
-    acc = motion.energy
-    u, v, cv, a_abs, a_rel, rates = motion.u, exact.v, work.cv_next, work.a_abs, exact.a_rel, exact.rates
-    mass, storey_k, bottom, top = structure.mass, structure.storey_k, structure.storey_bottom, structure.storey_top
-    smooth = gap > 0.0 and acc[ACC_FRESH] == 0.0
-    agx, agy = exact_state(t, structure, ground, motion, work, exact, g)
-    n_dof = mass.size
-    storey_matvec(a_rel, storey_k, bottom, top, rates[0])
-    damping_force(a_rel, rates[0], mass, structure.damping, n_dof, rates[1])
-    for d in range(n_dof):
-        rates[2, d] = -(exact.kv[d] + rates[1, d]) / mass[d]
-    storey_matvec(rates[2], storey_k, bottom, top, rates[3])
-    damping_force(rates[2], rates[3], mass, structure.damping, n_dof, rates[4])
-    for d in range(n_dof):
-        rates[3, d] = -(rates[0, d] + rates[4, d]) / mass[d]
-    # the ground acceleration's rate over the step (linear within it: steps never cross a
-    # record sample), which the peaks' second derivatives of the accelerations need
-    a0x = a0y = sx = sy = 0.0
-    if smooth:
-        a0x, a0y = ground_at(t - gap, ground)
-        sx = (agx - a0x) / gap
-        sy = (agy - a0y) / gap
-    p_in = 0.0
-    p_damp = 0.0
-    for d in range(0, n_dof, 3):
-        p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
-    for d in range(n_dof):
-        p_damp += v[d] * cv[d]
-    if smooth:  # the exact step's own work (propagate), then the powers for a later trapezoid
-        acc[ACC_INPUT] += acc[ACC_STEP_INPUT]
-        acc[ACC_DAMPING] += acc[ACC_STEP_DAMPING]
-        accumulate_energy(acc, 0.0, p_in, p_damp, 0.0)
-    else:
-        accumulate_energy(acc, gap, p_in, p_damp, 0.0)
-    update_peaks(u, a_abs, structure, work.storey_work, peaks)
-    n_crests = peaks_between(gap, smooth, u, a_abs, sx, sy, structure, exact, work.storey_work, peaks)
-    if n_crests > 0:
-        crest = exact.crest
-        state_series(u, v, a_rel, sx, sy, structure, crest.series, crest.series_k)
-        settle_crests(gap, n_crests, agx, agy, sx, sy, structure, crest, peaks)
-    return agx, agy
-
-
-@kernel(**INTERNAL)
-def state_series(u, v, a_rel, sx, sy, structure, series, series_k):
-    """The exact motion's derivatives at a state reached by exact propagation: series[j] =
-    u⁽ʲ⁾ for j = 0 … R − 1 (R = series.shape[0]), from u, v, a_rel and the ground acceleration's
-    rate (sx, sy) m/s³ over the step: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾) − ι·a_g⁽ʲ⁾ for j ≥ 1,
-    where a_g⁽ʲ⁾ is the rate for j = 1 and 0 after (a_g is linear within the step; the members'
-    plastic correction is constant and drops out). series_k: work (2, n_dof + 3)."""
-    mass, storey_k, bottom, top = structure.mass, structure.storey_k, structure.storey_bottom, structure.storey_top
-    n_dof = mass.size
-    for d in range(n_dof):
-        series[0, d] = u[d]
-        series[1, d] = v[d]
-        series[2, d] = a_rel[d]
-    storey_matvec(series[1], storey_k, bottom, top, series_k[1])
-    for j in range(1, series.shape[0] - 2):
-        # series_k[(j + 1) % 2] = K·u⁽ʲ⁺¹⁾; series_k[j % 2] holds K·u⁽ʲ⁾ from the last order
-        storey_matvec(series[j + 1], storey_k, bottom, top, series_k[(j + 1) % 2])
-        damping_force(series[j + 1], series_k[(j + 1) % 2], mass, structure.damping, n_dof, series[j + 2])
-        for d in range(n_dof):
-            series[j + 2, d] = -(series_k[j % 2, d] + series[j + 2, d]) / mass[d]
-        for d in range(n_dof, series.shape[1]):  # the ground's row (damping links may write it)
-            series[j + 2, d] = 0.0
-        if j == 1:
-            for d in range(0, n_dof, 3):
-                series[3, d] -= sx
-                series[3, d + 1] -= sy
-
-
-@kernel(fastmath=REASSOCIATE, **INTERNAL)
-def propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, dof_start, dof_count, mass, ground, x, y, acc):
-    """(u, v) at t + h from (u, v) at t, exactly, building by building, and the exact work
-    over the step of the ground, into acc[ACC_STEP_INPUT], and of the damping, into
-    acc[ACC_STEP_DAMPING], J (propagator.py: from z₀ = (u, v, a₀, Δa), the mean rows r and the
-    damping form G of each building). x (2·n_max + 4), y (2·n_max): scratch."""
-    a0x, a0y = ground_at(t, ground)
-    a1x, a1y = ground_at(t + h, ground)
-    dx = a1x - a0x
-    dy = a1y - a0y
-    w_in = 0.0
-    w_damp = 0.0
-    for b in range(dof_start.size):
-        d0 = dof_start[b]
-        n = dof_count[b]
-        for i in range(n):
-            x[i] = u[d0 + i]
-            x[n + i] = v[d0 + i]
-        x[2 * n] = a0x
-        x[2 * n + 1] = a0y
-        x[2 * n + 2] = dx
-        x[2 * n + 3] = dy
-        # the damping's work z₀ᵀ·G·z₀ (G symmetric: the upper triangle, twice) and the means
-        # S̄ of the mass-weighted translations over the step
-        mean_x = 0.0
-        mean_y = 0.0
-        for i in range(2 * n + 4):
-            row = 0.5 * damping_form[b, i, i] * x[i]
-            for j in range(i + 1, 2 * n + 4):
-                row += damping_form[b, i, j] * x[j]
-            w_damp += 2.0 * x[i] * row
-            mean_x += mean_rows[b, 0, i] * x[i]
-            mean_y += mean_rows[b, 1, i] * x[i]
-        s0x = 0.0
-        s0y = 0.0
-        for i in range(0, n, 3):
-            s0x += mass[d0 + i] * x[i]
-            s0y += mass[d0 + i + 1] * x[i + 1]
-        for i in range(2 * n):
-            acc_i = g0[b, i, 0] * a0x + g0[b, i, 1] * a0y + g1[b, i, 0] * dx + g1[b, i, 1] * dy
-            for j in range(2 * n):
-                acc_i += phi[b, i, j] * x[j]
-            y[i] = acc_i
-        s1x = 0.0
-        s1y = 0.0
-        for i in range(0, n, 3):
-            s1x += mass[d0 + i] * y[i]
-            s1y += mass[d0 + i + 1] * y[i + 1]
-        w_in -= a0x * (s1x - s0x) + dx * (s1x - mean_x) + a0y * (s1y - s0y) + dy * (s1y - mean_y)
-        for i in range(n):
-            u[d0 + i] = y[i]
-            v[d0 + i] = y[n + i]
-    acc[ACC_STEP_INPUT] = w_in
-    acc[ACC_STEP_DAMPING] = w_damp
-
-
-@kernel(**INTERNAL)
-def propagate_elastic(t, h, phi, g0, g1, mean_rows, damping_form, structure, ground, exact, motion, has_members):
-    """propagate() of the exact state (motion.u, exact.v) over h about the static offset
-    exact.u_static of the members' plastic deflections (the work is the same: the offset is
-    constant), with the propagator (phi, g0, g1, mean_rows, damping_form) of that step."""
-    u, u_static = motion.u, exact.u_static
-    if has_members:
-        for d in range(u_static.size):
-            u[d] -= u_static[d]
-    propagate(t, h, u, exact.v, phi, g0, g1, mean_rows, damping_form, structure.dof_start, structure.dof_count,
-              structure.mass, ground, exact.x, exact.y, motion.energy)  # fmt: skip
-    if has_members:
-        for d in range(u_static.size):
-            u[d] += u_static[d]
-
-
-@kernel(**INTERNAL)
-def _enter_cdm(step, structure, exact, motion, work):
-    """Hand the exact state at an instant already accounted for to the CDM at `step` s:
-    v_{−½} = v − (Δt/2)·a (no contact force: none is possible yet), C·v_{−½}."""
-    mass, v_half, dv, a_rel = structure.mass, motion.v_half, work.dv, exact.a_rel
-    n_dof = mass.size
-    for d in range(n_dof):
-        v_half[d] = exact.v[d] - 0.5 * step * a_rel[d]
-        dv[d] = step * a_rel[d]
-    storey_matvec(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, work.z)
-    damping_force(v_half, work.z, mass, structure.damping, n_dof, motion.cv_half)
-    motion.energy[ACC_FRESH] = 1.0  # the instant is already integrated
-
-
-@kernel(**INTERNAL)
-def _leave_cdm(t, step, structure, ground, propagators, exact, motion, work, yielding):
-    """Hand the CDM's state at t back to the exact propagation: v_n = v_{n−½} + Δv_n/2 (no
-    contact force), the energy account closed up to t_n; with yielding members, their static
-    offset u_static = K⁻¹·g for their plastic deflections."""
-    if yielding.plastic.shape[0] > 0:
-        plastic_correction(yielding.law, yielding.plastic, yielding.g)
-        solve_blocks(propagators.k_inverse, structure.dof_start, structure.dof_count, yielding.g, exact.u_static)
-    mass, u, ku, g, r, dv = structure.mass, motion.u, motion.ku, yielding.g, work.r, work.dv
-    v_half, cv_half, v_exact, cv = motion.v_half, motion.cv_half, exact.v, work.cv_next
-    n_dof = mass.size
-    agx, agy = ground_at(t, ground)
-    storey_matvec(u, structure.storey_k, structure.storey_bottom, structure.storey_top, ku)
-    for d in range(0, n_dof, 3):
-        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d]
-        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1]
-        r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2]
-    solve_blocks(step.inverse, structure.dof_start, structure.dof_count, r, dv)
-    for d in range(n_dof):
-        v_exact[d] = v_half[d] + 0.5 * dv[d]
-    storey_matvec(v_exact, structure.storey_k, structure.storey_bottom, structure.storey_top, exact.kv)
-    damping_force(v_exact, exact.kv, mass, structure.damping, n_dof, cv)
-    p_in = 0.0
-    p_damp = 0.0
-    for d in range(0, n_dof, 3):
-        p_in -= mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
-    for d in range(n_dof):
-        p_damp += v_exact[d] * cv[d]
-    accumulate_energy(motion.energy, step.dt, p_in, p_damp, 0.0)
-    motion.energy[ACC_FRESH] = 1.0  # t_n is integrated; the exact loop starts from here

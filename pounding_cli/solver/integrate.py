@@ -15,6 +15,7 @@ import numpy as np
 
 from ..interrupts import stop_if_requested
 from . import cdm, hybrid
+from .sleep import awake_record
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
 from .layout import EV_COLUMNS, NOW_COLUMNS
@@ -206,6 +207,8 @@ class Response:
     exact_substeps: int = 0  # hybrid: steps taken by exact propagation (substeps, and shorter ones toward impacts)
     exact_steps_of_dt: int = 0  # hybrid: the time propagated exactly, in steps of dt
     cdm_steps: int = 0  # steps taken by the CDM
+    slept_building_steps: int = 0  # hybrid: CDM steps the sleeping buildings were spared, summed over them
+    sleeps: int = 0  # hybrid: how often a building fell asleep through a contact phase
     switches: int = 0  # hybrid: hand-overs between the two
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
     failure_step: int = -1  # a failed run: the step m whose state (at t_m = m·dt) failed a check first
@@ -375,7 +378,7 @@ def simulate(
     centre, col_arm = peak_geometry(structure)
     structure_rec = Structure(structure.mass, damping_arrays(structure), structure.storey_k, ground_as_floor(structure),
                       structure.storey_top, starts, counts, structure.storey_axes, centre, structure.column_storey,
-                      col_arm)  # fmt: skip
+                      col_arm, np.arange(starts.size, dtype=np.int64))  # fmt: skip
     ground_rec = Ground(ground, ground_dt)
     # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
     v0 = np.zeros(n_dof + 3)
@@ -406,6 +409,7 @@ def simulate(
                  np.full((n_out, n_pairs, len(NOW_COLUMNS)), np.nan),
                  np.full((n_out, n_dof), np.nan))  # fmt: skip
     contact_rec = contact_state(c, n_dof, sweep)
+    floor_start = np.append(starts, n_dof).astype(np.int64) // 3
     counters = np.zeros(hybrid.N_COUNTERS, dtype=np.int64)
     counters[hybrid.CNT_FAILED_STEP] = -1
     if substep > 0:
@@ -420,19 +424,24 @@ def simulate(
         propagators, exact = exact_branch(structure, structure_rec, v0, h, substep, stride, ground_dt, n_pairs > 0,
                                           n_members > 0, gauge_rec.storey.size)  # fmt: skip
         progress_state = Progress(np.zeros(1, dtype=np.int64), counters)
+        awake = awake_record(may_sleep(propagators, n_pairs, n_members, structure_rec, floor_start), floor_start,
+                             structure.column_storey, gauge_rec.first, contact_rec.bodies.floor,
+                             contact_rec.storeys.above)  # fmt: skip
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
             return hybrid.hybrid_advance(start, stop, grid, structure_rec, ground_rec, contact_step, yield_step,
                                          propagators, exact, motion, work, peaks, out, contact_rec, yielding,
-                                         progress_state)  # fmt: skip
+                                         progress_state, awake)  # fmt: skip
     else:
         unit, total = 1, n_steps
         step = CdmStep(dt, binv, stride, 1)
+        awake = awake_record(False, floor_start, structure.column_storey, gauge_rec.first, contact_rec.bodies.floor,
+                             contact_rec.storeys.above)  # fmt: skip
 
         def advance(start: int, stop: int) -> tuple[int, int]:
             status, done = cdm.advance(start, stop, step, structure_rec, ground_rec, motion, work, peaks, out,
-                                       contact_rec, yielding)  # fmt: skip
+                                       contact_rec, yielding, awake)  # fmt: skip
             counters[hybrid.CNT_CDM] += min(done, total) - start  # the pass at t_N ends the run: not a step
             if status != cdm.STATUS_OK:
                 counters[hybrid.CNT_FAILED_STEP] = done
@@ -509,6 +518,8 @@ def simulate(
         exact_substeps=int(counters[hybrid.CNT_EXACT]),
         exact_steps_of_dt=int(counters[hybrid.CNT_EXACT_SPAN]),
         cdm_steps=int(counters[hybrid.CNT_CDM]),
+        slept_building_steps=int(counters[hybrid.CNT_SLEPT]),
+        sleeps=int(counters[hybrid.CNT_SLEEPS]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
         failure_dof=(_failure_dof(u[:n_dof], motion.v_half[:n_dof])
                      if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1),  # fmt: skip
@@ -555,6 +566,18 @@ def storey_bodies(contact: ContactData, n_dof: int) -> StoreyBodies:
     return StoreyBodies(np.where(below < 0, n_dof // 3, below).astype(np.int64), above.astype(np.int64),
                         shape.astype(float), np.ascontiguousarray(arm, dtype=float).reshape(-1, 2),
                         np.zeros(size), np.zeros(size), np.zeros(size))  # fmt: skip
+
+
+def may_sleep(propagators: Propagators, n_pairs: int, n_members: int, structure: Structure,
+              floor_start: np.ndarray) -> bool:
+    """Whether buildings may sleep through contact phases (solver/sleep.py): the hybrid's
+    contact phases run finest step by finest step (approach levels), there are several
+    buildings and contact pairs, and the buildings are coupled by contact alone (no damping
+    links; no yielding members, whose return map and static offset work on the whole
+    structure)."""
+    levels = propagators.levels.phi.shape[0] - 1
+    return (levels > 0 and n_pairs > 0 and n_members == 0 and structure.damping.link.shape[0] == 0
+            and floor_start.size > 2)  # fmt: skip
 
 
 def yielding_state(structure: StructureArrays, n_out: int) -> Yielding:

@@ -14,7 +14,7 @@ between them are exact:
    deflection, displacement and acceleration whose value comes within CREST_MARGIN of that
    bound of its running peak (quintic_crests): the crests that may raise it.
 2. Valued exactly. For a step with such crests, the exact motion's derivatives of every order
-   at the step's end, u⁽ʲ⁾ (hybrid.state_series: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾), the
+   at the step's end, u⁽ʲ⁾ (exact.state_series: u⁽ʲ⁺²⁾ = −M⁻¹(K·u⁽ʲ⁾ + C·u⁽ʲ⁺¹⁾), the
    ground's rate entering u‴ alone, as it is linear within the step), give each listed
    quantity's Taylor series about the end, exact to rounding over the step once its order
    passes ρ·H (crest_series_order; ρ the largest |λ| of the buildings' state matrices).
@@ -59,8 +59,16 @@ def storey_deflection(u, t, b, c, sn, centre):
 
 @phase
 def update_peaks(u, acc_abs, structure, storey_work, peaks):
+    """update_peaks_range over every building."""
+    update_peaks_range(u, acc_abs, structure, storey_work, peaks, 0, structure.storey_top.size, 0,
+                       structure.column_storey.size, 0, peaks.gauges.storey.size)  # fmt: skip
+
+
+@phase
+def update_peaks_range(u, acc_abs, structure, storey_work, peaks, f0, f1, c0, c1, g0, g1):
     """Running maxima (peaks: records.Peaks) at the state u with absolute accelerations
-    acc_abs: column deflections in building axes, storey twist, floor motion.
+    acc_abs: column deflections in building axes, storey twist, floor motion, of the buildings
+    whose floors (and storeys) are f0 … f1 − 1, columns c0 … c1 − 1, gauges g0 … g1 − 1.
 
     A point P of a floor with mass centre G moves by u + θ·ẑ×(P − G), so a column at P of
     storey s deflects by A + Δθ·ẑ×P with A = (u_t + θ_t·ẑ×(−G_t)) − (u_b + θ_b·ẑ×(−G_b)).
@@ -71,9 +79,9 @@ def update_peaks(u, acc_abs, structure, storey_work, peaks):
     """
     storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
         structure.storey_axes, structure.centre  # fmt: skip
-    col_storey, col_arm, n_dof = structure.column_storey, structure.column_arm, structure.mass.size
+    col_storey, col_arm = structure.column_storey, structure.column_arm
     peak_col, peak_rot, peak_disp, peak_acc = peaks.column, peaks.storey_rotation, peaks.displacement, peaks.acceleration
-    for s in range(storey_top.size):
+    for s in range(f0, f1):
         dx, dy, rot = storey_deflection(u, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                         centre)  # fmt: skip
         storey_work[s, 0] = dx
@@ -81,7 +89,7 @@ def update_peaks(u, acc_abs, structure, storey_work, peaks):
         storey_work[s, 2] = rot
         if abs(rot) > peak_rot[s]:
             peak_rot[s] = abs(rot)
-    for k in range(col_storey.size):
+    for k in range(c0, c1):
         s = col_storey[k]
         lx = abs(storey_work[s, 0] + storey_work[s, 2] * col_arm[k, 0])
         ly = abs(storey_work[s, 1] + storey_work[s, 2] * col_arm[k, 1])
@@ -89,8 +97,8 @@ def update_peaks(u, acc_abs, structure, storey_work, peaks):
             peak_col[k, 0] = lx
         if ly > peak_col[k, 1]:
             peak_col[k, 1] = ly
-    update_gauge_peaks(storey_work, peaks.gauges)
-    for d in range(n_dof):
+    update_gauge_peaks(storey_work, peaks.gauges, g0, g1)
+    for d in range(3 * f0, 3 * f1):
         if abs(u[d]) > peak_disp[d]:
             peak_disp[d] = abs(u[d])
         if abs(acc_abs[d]) > peak_acc[d]:
@@ -216,7 +224,7 @@ def crest_arrays(n_columns: int, n_storeys: int, n_dof: int, n_gauges: int = 0) 
 
 
 def crest_series_order(rho_h: float) -> int:
-    """Rows of hybrid.state_series (u⁽ʲ⁾, j = 0 … R − 1) for exact steps of ρ·H ≤ rho_h: the
+    """Rows of exact.state_series (u⁽ʲ⁾, j = 0 … R − 1) for exact steps of ρ·H ≤ rho_h: the
     Taylor series of an acceleration's second derivative, its shortest, keeps R − 4 terms, and
     its remainder (ρ·H)^(R−4)/(R−4)! of the motion is below SERIES_REMAINDER. A step so long
     that this takes more than SERIES_MAX_ORDER terms (or a rate that is not finite) is a
@@ -247,7 +255,7 @@ def _series_at(b, n_c, sigma):
 @kernel(**INTERNAL)
 def settle_crests(h, n, agx, agy, sx, sy, structure, crest, peaks):
     """The exact values of the n crests quintic_crests listed (crest.crests) over the step of
-    h s that ends at the state of crest.series (hybrid.state_series: u⁽ʲ⁾ there, row j),
+    h s that ends at the state of crest.series (exact.state_series: u⁽ʲ⁾ there, row j),
     raising their running peaks (records.Peaks). A quantity q, linear in u, has the Taylor
     series q(t₁ − σ) = Σ (−σ)ʲ/j!·q⁽ʲ⁾(t₁) about the end t₁; an absolute acceleration is ü +
     the ground's (agx, agy at t₁, rising at sx, sy m/s³ over the step). From the quintic's crest, Newton's steps on q' find the
@@ -357,6 +365,13 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 @kernel(**INTERNAL)
 def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks):
+    """peaks_between_range over every building."""
+    return peaks_between_range(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks, 0,
+                               structure.storey_top.size, 0, peaks.gauges.storey.size)  # fmt: skip
+
+
+@kernel(**INTERNAL)
+def peaks_between_range(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks, f0, f1, g0, g1):
     """After update_peaks at an exact state (u, v = exact.v) with relative and absolute
     accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous
     exact state was itself exact, and the crests over it of the column deflections, storey
@@ -375,15 +390,16 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
     bound for the whole storey (its deflection plus its largest arm times its twist) passes
     floor_ratio × the lowest of their peaks: most steps of most storeys are settled by that
     one comparison. (rates, kept, between, first, floor_ratio and crests: fields of exact,
-    records.Exact.)"""
+    records.Exact.) Only the buildings whose floors (and storeys) are f0 … f1 − 1 and gauges
+    g0 … g1 − 1 are looked at."""
     v, a_rel, rates, kept, between, first = exact.v, exact.a_rel, exact.rates, exact.kept, exact.between, exact.first
     floor_ratio, crests = exact.crest.floor_ratio, exact.crest.crests
     storey_bottom, storey_top, storey_axes, centre = structure.storey_bottom, structure.storey_top, \
         structure.storey_axes, structure.centre  # fmt: skip
-    col_arm, n_dof = structure.column_arm, structure.mass.size
+    col_arm = structure.column_arm
     peak_col, peak_rot, peak_disp, peak_acc = peaks.column, peaks.storey_rotation, peaks.displacement, peaks.acceleration
     n = 0
-    for s in range(storey_top.size):
+    for s in range(f0, f1):
         rx, ry, rt = storey_deflection(v, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
                                        centre)  # fmt: skip
         bx, by, bt = storey_deflection(a_rel, storey_top[s], storey_bottom[s], storey_axes[s, 0], storey_axes[s, 1],
@@ -429,16 +445,16 @@ def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, pe
         between[s, BT_BEND] = bx
         between[s, BT_BEND + 1] = by
         between[s, BT_BEND + 2] = bt
-    keep_offsets(peaks.gauges)
+    keep_offsets(peaks.gauges, g0, g1)
     if smooth:
-        for d in range(n_dof):
+        for d in range(3 * f0, 3 * f1):
             n = quintic_crests(kept[0, d], kept[1, d], kept[4, d], u[d], v[d], a_rel[d], h,
                                floor_ratio * peak_disp[d], CREST_DISPLACEMENT, d, crests, n)  # fmt: skip
             ground_part = sx * rates[5, d] + sy * rates[6, d]
             n = quintic_crests(kept[2, d], kept[3, d], kept[5, d] + ground_part, a_abs[d], rates[2, d],
                                rates[3, d] + ground_part, h, floor_ratio * peak_acc[d], CREST_ACCELERATION, d,
                                crests, n)  # fmt: skip
-    for d in range(n_dof):
+    for d in range(3 * f0, 3 * f1):
         kept[0, d] = u[d]
         kept[1, d] = v[d]
         kept[2, d] = a_abs[d]

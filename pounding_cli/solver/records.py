@@ -68,6 +68,8 @@ class Structure(NamedTuple):
     """(n_columns,) storey of each column (columns are listed storey by storey)"""
     column_arm: np.ndarray
     """(n_columns, 2) ξ, η: the column's arm in building axes, m (peaks.update_peaks)"""
+    buildings: np.ndarray
+    """(n_buildings,) 0 … n_buildings − 1: every building, as a list of them (exact.propagate)"""
 
 
 class Ground(NamedTuple):
@@ -265,6 +267,11 @@ class BroadPhase(NamedTuple):
     """(n_pairs,) the pairs in contact at the last step"""
     n_live: np.ndarray
     """(1,) how many of `live` are set"""
+    phase: np.ndarray
+    """(n_pairs,) while buildings sleep (sleep.py): the pairs that may touch before the next
+    substep boundary, ascending; the contact step visits these (and `live`) alone"""
+    n_phase: np.ndarray
+    """(1,) how many of `phase` are set; −1: no such list, the broad phase decides"""
 
 
 class ClipWork(NamedTuple):
@@ -386,7 +393,7 @@ class Crests(NamedTuple):
     crests: np.ndarray
     """(n, 3) the crests listed (peaks.crest_arrays)"""
     series: np.ndarray
-    """(R, n_dof + 3) the exact motion's derivatives at a state (hybrid.state_series)"""
+    """(R, n_dof + 3) the exact motion's derivatives at a state (exact.state_series)"""
     series_k: np.ndarray
     """(2, n_dof + 3) K times two of them"""
     coef: np.ndarray
@@ -452,3 +459,37 @@ class Progress(NamedTuple):
     """(1,) what the next substep does"""
     counters: np.ndarray
     """(hybrid.N_COUNTERS,) steps, hand-overs, the failed step"""
+
+
+class Awake(NamedTuple):
+    """Which buildings the CDM carries while it integrates contacts, and which sleep: propagated
+    exactly, finest step by finest step (sleep.py). Floors, columns and force gauges are
+    numbered building by building, so a run of consecutive buildings is one range of each."""
+
+    enabled: int
+    """1 where buildings may sleep (sleep.may_sleep), else 0: all stay awake"""
+    floor_start: np.ndarray
+    """(n_buildings + 1,) first floor of each building (storeys alike)"""
+    column_start: np.ndarray
+    """(n_buildings + 1,) first column of each building"""
+    gauge_start: np.ndarray
+    """(n_buildings + 1,) first force gauge of each building"""
+    body_building: np.ndarray
+    """(n_bodies,) the building each contact body moves with (a struck storey's: the struck one)"""
+    flag: np.ndarray
+    """(n_buildings,) 1: carried by the CDM; 0: asleep"""
+    everyone: np.ndarray
+    """(n_buildings,) ones: a flag under which every pair counts"""
+    time: np.ndarray
+    """(1,) the instant the sleeping buildings' state is at, s"""
+    need: np.ndarray
+    """(n_buildings,) work: 1 where a pair of the building may touch within the horizon"""
+    runs: np.ndarray
+    """(n_buildings, 8) the awake runs of consecutive buildings: floors f0, f1, columns c0, c1,
+    gauges g0, g1, buildings b0, b1 (half-open ranges)"""
+    n_runs: np.ndarray
+    """(1,) how many runs"""
+    sleepers: np.ndarray
+    """(n_buildings,) the sleeping buildings"""
+    n_sleepers: np.ndarray
+    """(1,) how many"""

@@ -17,7 +17,7 @@ Scenes without struck storeys call the kernel on the state vectors themselves, u
 
 from __future__ import annotations
 
-from .contact import contact_forces, contact_possible_within, contact_ruled_out_within
+from .contact import contact_forces, contact_pairs_needed, contact_possible_within, contact_ruled_out_within
 from .jit import phase
 
 
@@ -103,3 +103,13 @@ def ruled_out_within(horizon, u, v, acc, contact):
         return contact_ruled_out_within(horizon, u, v, acc, contact)
     _extend_three(u, v, acc, storeys)
     return contact_ruled_out_within(horizon, storeys.u, storeys.v, storeys.w, contact)
+
+
+@phase
+def needed_within(horizon, u, v, acc, contact, body_building, flag, need, keep):
+    """contact_pairs_needed, with the struck storeys as virtual floors."""
+    storeys = contact.storeys
+    if storeys.shape.size == 0:
+        return contact_pairs_needed(horizon, u, v, acc, contact, body_building, flag, need, keep)
+    _extend_three(u, v, acc, storeys)
+    return contact_pairs_needed(horizon, storeys.u, storeys.v, storeys.w, contact, body_building, flag, need, keep)
