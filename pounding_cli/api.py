@@ -530,6 +530,7 @@ def execute(
         "cdm_steps": response.cdm_steps,
         "slept_building_steps": response.slept_building_steps,
         "sleeps": response.sleeps,
+        "wakes": response.wakes,
         "switches": response.switches,
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,

@@ -46,12 +46,13 @@ compiles for "haswell" on every x86-64-v3 machine (cpu_target), the file records
 seven scenes, run on a Zen 5 compiling for "haswell", gave every pinned digest (and 14 to 74 of
 each scene's 118 to 228 datasets differed compiling for the Zen 5 itself).
 Issue 30 re-pinned row_of_5 once more when buildings began to sleep through contact phases
-(solver/sleep.py: 102 times, sparing 173,484 of its 318,780 building-steps of the CDM): its
+(solver/sleep.py: 102 times, woken 9 times, sparing 173,484 of its 318,780 building-steps of
+the CDM): its
 sleeping buildings are now integrated exactly, so every building dataset, the energy and the
 impact log moved by the CDM's truncation error on them (tests/test_sleep.py: displacements
 1.8e-9 of their largest value, peaks 6.6e-9, impact forces 4e-9). Every other scene, in which
-every building is needed through each contact phase, kept every pinned digest; the two new
-counts (diagnostics/sleeps, slept_building_steps) were added to every scene's pin.
+every building is needed through each contact phase, kept every pinned digest; the three new
+counts (diagnostics/sleeps, wakes, slept_building_steps) were added to every scene's pin.
 """
 
 from __future__ import annotations

@@ -56,7 +56,9 @@ def test_buildings_sleep_in_the_row(row_of_5):
     asleep, awake = row_of_5
     d, ref = asleep.diagnostics, awake.diagnostics
     assert d["sleeps"] > 0 and d["slept_building_steps"] > 0
-    assert ref["sleeps"] == 0 and ref["slept_building_steps"] == 0
+    # some slept while others pounded and were then struck in the same phase: they woke
+    assert d["wakes"] > 0
+    assert ref["sleeps"] == ref["wakes"] == ref["slept_building_steps"] == 0
     # the same contact phases: the steps of the CDM are the same, only fewer buildings take them
     assert d["cdm_steps"] == ref["cdm_steps"] and d["exact_substeps"] == ref["exact_substeps"]
     # of the 5 buildings, more than one slept through most of the CDM's steps

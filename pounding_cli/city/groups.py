@@ -106,7 +106,7 @@ def merge(results: list[RunResult], order: list[str], model_json: str, input_sha
         buildings.update(r.buildings)
     failed = [r.status for r in results if not r.complete]
     diagnostics = dict(first.diagnostics)
-    for key in ("steps", "contact_steps", "cdm_steps", "exact_substeps", "slept_building_steps", "sleeps",
+    for key in ("steps", "contact_steps", "cdm_steps", "exact_substeps", "slept_building_steps", "sleeps", "wakes",
                 "contact_pairs", "storey_pairs", "impacts", "impacts_logged", "n_dof", "wall_time_s", "compile_time_s",
                 "contact_reach_reruns"):  # fmt: skip
         if all(key in r.diagnostics for r in results):

@@ -44,9 +44,10 @@ MODE_EXACT, MODE_CDM, MODE_CDM_YIELD, MODE_APPROACH = 0, 1, 2, 3
 # counters: exact steps (substeps and the approach's shorter ones), CDM steps, hand-overs, the
 # step (in CDM steps at the contact step) whose state failed the divergence check (−1 while
 # none has), the time propagated exactly, in CDM steps, the CDM steps that sleeping buildings
-# did not take (summed over them), and how often a building fell asleep (sleep.py)
-CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN, CNT_SLEPT, CNT_SLEEPS = range(7)
-N_COUNTERS = 7
+# did not take (summed over them), how often a building fell asleep and how often one woke
+# inside a contact phase (sleep.py)
+CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN, CNT_SLEPT, CNT_SLEEPS, CNT_WAKES = range(8)
+N_COUNTERS = 8
 N_RATES = 7  # rows of exact_point's `rates`
 
 
@@ -325,8 +326,10 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
             counters[CNT_SLEPT] += catch_up(t_pos, h_fine, lev, structure, ground, motion, work, exact, peaks, awake,
                                             yielding.g) * q  # fmt: skip
             if stay:  # at the substep's end: who sleeps through the next one
-                counters[CNT_SLEEPS] += rebalance(t_pos, ENTER_HORIZON * grid.h, step, structure, ground, motion, work,
-                                                  exact, peaks, contact, awake, yielding.g)  # fmt: skip
+                naps, wakes = rebalance(t_pos, ENTER_HORIZON * grid.h, step, structure, ground, motion, work, exact,
+                                        peaks, contact, awake, yielding.g)  # fmt: skip
+                counters[CNT_SLEEPS] += naps
+                counters[CNT_WAKES] += wakes
                 continue
         elif contact.broad.n_live[0] > 0 or not ruled_out_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel, contact):
             continue

@@ -209,6 +209,7 @@ class Response:
     cdm_steps: int = 0  # steps taken by the CDM
     slept_building_steps: int = 0  # hybrid: CDM steps the sleeping buildings were spared, summed over them
     sleeps: int = 0  # hybrid: how often a building fell asleep through a contact phase
+    wakes: int = 0  # hybrid: how often a sleeping building woke inside a contact phase
     switches: int = 0  # hybrid: hand-overs between the two
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
     failure_step: int = -1  # a failed run: the step m whose state (at t_m = m·dt) failed a check first
@@ -520,6 +521,7 @@ def simulate(
         cdm_steps=int(counters[hybrid.CNT_CDM]),
         slept_building_steps=int(counters[hybrid.CNT_SLEPT]),
         sleeps=int(counters[hybrid.CNT_SLEEPS]),
+        wakes=int(counters[hybrid.CNT_WAKES]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
         failure_dof=(_failure_dof(u[:n_dof], motion.v_half[:n_dof])
                      if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1),  # fmt: skip

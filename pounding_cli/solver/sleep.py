@@ -192,7 +192,7 @@ def rebalance(t, horizon, step, structure, ground, motion, work, exact, peaks, c
     """At a substep boundary t of a contact phase, every building's state at t (catch_up): the
     buildings with a pair that may touch within `horizon` s are carried by the CDM, the others
     sleep until the next boundary; those that change hand over (the module docstring).
-    Returns how many fell asleep."""
+    Returns how many fell asleep and how many woke."""
     count = needed_within(horizon, motion.u, motion.v_half, exact.a_rel, contact, awake.body_building, awake.everyone,
                           awake.need, True)  # fmt: skip
     flag, need, fs = awake.flag, awake.need, awake.floor_start
@@ -203,6 +203,7 @@ def rebalance(t, horizon, step, structure, ground, motion, work, exact, peaks, c
     mass, v, cv = structure.mass, exact.v, work.cv_next
     changed = False
     naps = 0
+    wakes = 0
     for b in range(flag.size):
         if flag[b] == need[b]:
             continue
@@ -226,8 +227,9 @@ def rebalance(t, horizon, step, structure, ground, motion, work, exact, peaks, c
             acc[ACC_P_DAMPING] -= p_damp
             enter_cdm(step.dt, structure, exact, motion, work, f0, f1)
             flag[b] = 1
+            wakes += 1
         changed = True
     if changed:
         set_runs(awake)
     awake.time[0] = t
-    return naps
+    return naps, wakes
