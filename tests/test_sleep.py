@@ -99,6 +99,53 @@ def test_the_energy_account_stays_closed(row_of_5):
     assert _relative(awake.energy, asleep.energy) <= 1e-7
 
 
+WALL = """
+[[obstacles]]
+name = "wall"
+polygon = [[-0.47, -1.0], [-0.01, -1.0], [-0.01, 9.0], [-0.47, 9.0]]
+elevation = [0.0, 9.0]
+material = "concrete"
+"""
+
+
+def test_a_wall_beside_the_row(tmp_path, monkeypatch):
+    # an obstacle belongs to no building (it never sleeps): the row's first building, 1 cm from
+    # a wall, pounds it while the others sleep, as in the run that carries every building
+    path = next(p for p in scene_files() if p.stem == "row_of_5")
+    model = tmp_path / "row_and_wall.toml"
+    model.write_text(path.read_text(encoding="utf-8") + WALL, encoding="utf-8")
+    for record in path.parent.glob("*.mseed"):
+        (tmp_path / record.name).symlink_to(record)
+    runs = []
+    for sleep in (True, False):
+        with monkeypatch.context() as m:
+            if not sleep:
+                m.setattr(integrate, "may_sleep", lambda *args: False)
+            runs.append(execute(prepare(model)))
+    asleep, awake = runs
+    assert asleep.diagnostics["sleeps"] > 0
+    walls = [e for e in asleep.contact.events if "wall" in (e["body_a"], e["body_b"])]
+    assert walls, "the wall is struck"
+    a, b = awake.contact.events, asleep.contact.events
+    assert len(a) == len(b)
+    assert np.max(np.abs(a["t_start"] - b["t_start"])) <= 1e-9
+    assert _relative(a["peak_normal_force"], b["peak_normal_force"]) <= FORCE_TOLERANCE
+    for name, ref in awake.buildings.items():
+        assert _relative(ref.peak_displacement, asleep.buildings[name].peak_displacement) <= PEAK_TOLERANCE, name
+
+
+def test_which_building_a_contact_body_moves_with():
+    # two 3-floor buildings; bodies: their six slabs, a wall (floor −1) and the storey of
+    # building 1 struck beneath its floor 5 (virtual floor n_floors + 1 + 0, floor above: 4)
+    from pounding_cli.solver.sleep import awake_record
+
+    awake = awake_record(True, np.array([0, 3, 6]), np.array([0, 0, 1, 2, 3, 4, 5]), np.arange(7),
+                         np.array([0, 1, 2, 3, 4, 5, -1, 7]), np.array([4]))  # fmt: skip
+    assert list(awake.body_building) == [0, 0, 0, 1, 1, 1, -1, 1]
+    assert list(awake.column_start) == [0, 4, 7] and list(awake.gauge_start) == [0, 3, 6]
+    assert list(awake.runs[0]) == [0, 6, 0, 7, 0, 6, 0, 2] and awake.n_runs[0] == 1 and awake.n_sleepers[0] == 0
+
+
 @pytest.mark.parametrize(
     "case, expected",
     [

@@ -998,8 +998,9 @@ def contact_pairs_needed(horizon, u, v, acc, contact, body_building, flag, need,
     that contact_ruled_out_within cannot rule out within `horizon` s (a pair in contact among
     them), 0 for the rest. Pairs with a building whose flag is 0 are passed over (flag all
     ones: every pair). With `keep`, those pairs become the broad phase's `phase` list, which
-    the contact step visits alone (with every pair where the state has gone bad). Returns how
-    many pairs those are (−1 for a state gone bad, when every building is needed)."""
+    the contact step visits alone (with every pair where the state has gone bad). Bodies of
+    building −1 (obstacles) count as awake. Returns how many pairs those are (−1 for a state
+    gone bad, when every building is needed)."""
     bodies, broad = contact.bodies, contact.broad
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
     pair_a = contact.law.a
@@ -1024,15 +1025,17 @@ def contact_pairs_needed(horizon, u, v, acc, contact, body_building, flag, need,
         b = pair_b[p]
         building_a = body_building[a]
         building_b = body_building[b]
-        if flag[building_a] == 0 or flag[building_b] == 0:
+        if (building_a >= 0 and flag[building_a] == 0) or (building_b >= 0 and flag[building_b] == 0):
             continue
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
             continue
         gap, dx, dy = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
         closing = CLOSING_SAFETY * _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius)
         if not gap > closing:  # (NaN: possible)
-            need[building_a] = 1
-            need[building_b] = 1
+            if building_a >= 0:
+                need[building_a] = 1
+            if building_b >= 0:
+                need[building_b] = 1
             if keep:
                 broad.phase[count] = p
             count += 1

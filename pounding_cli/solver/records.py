@@ -475,7 +475,8 @@ class Awake(NamedTuple):
     gauge_start: np.ndarray
     """(n_buildings + 1,) first force gauge of each building"""
     body_building: np.ndarray
-    """(n_bodies,) the building each contact body moves with (a struck storey's: the struck one)"""
+    """(n_bodies,) the building each contact body moves with (a struck storey's: the struck one;
+    −1: an obstacle, which never sleeps)"""
     flag: np.ndarray
     """(n_buildings,) 1: carried by the CDM; 0: asleep"""
     everyone: np.ndarray

@@ -49,19 +49,21 @@ def awake_record(
     """Every building awake. floor_start (n_buildings + 1,): first floor of each building;
     column_storey: each column's storey (storey by storey); gauge_first (n_storeys + 1,): each
     storey's first force gauge; body_floor: each contact body's floor, n_floors + 1 + k for
-    the virtual floor of struck storey k, whose floor above is storey_above[k]."""
+    the virtual floor of struck storey k, whose floor above is storey_above[k], −1 for an
+    obstacle (a moat wall: it belongs to no building)."""
     n_b = floor_start.size - 1
     n_floors = int(floor_start[-1])
     floor_building = np.repeat(np.arange(n_b), np.diff(floor_start))
     floor = np.asarray(body_floor, dtype=np.int64)
     above = np.asarray(storey_above, dtype=np.int64)
     floor = np.array([above[f - n_floors - 1] if f > n_floors else f for f in floor], dtype=np.int64)
+    owner = np.where(floor >= 0, floor_building[np.maximum(floor, 0)], -1) if floor.size else floor  # −1: an obstacle
     column_start = np.searchsorted(column_storey, floor_start).astype(np.int64)
     gauge_start = np.asarray(gauge_first, dtype=np.int64)[floor_start]
     runs = np.zeros((max(n_b, 1), 8), dtype=np.int64)  # one run: every building (set_runs)
     runs[0] = (0, n_floors, 0, column_start[-1], 0, gauge_start[-1], 0, n_b)
     return Awake(int(enabled), np.asarray(floor_start, dtype=np.int64), column_start, gauge_start,
-                 floor_building[floor].astype(np.int64), np.ones(n_b, dtype=np.int64), np.ones(n_b, dtype=np.int64),
+                 owner.astype(np.int64), np.ones(n_b, dtype=np.int64), np.ones(n_b, dtype=np.int64),
                  np.zeros(1), np.zeros(n_b, dtype=np.int64),
                  runs, np.ones(1, dtype=np.int64), np.zeros(n_b, dtype=np.int64), np.zeros(1, dtype=np.int64))
 
