@@ -10,7 +10,7 @@ from pathlib import Path
 THEORY = Path(__file__).resolve().parents[1] / "docs" / "theory.md"
 MODULES = ("cdm", "hybrid", "exact", "sleep", "contact", "contact_geometry", "broad_phase", "peaks", "hysteresis", "propagator")
 PHASES = {
-    "cdm": ["_contact_phase", "_velocity_update", "_step_energy", "_step_peaks", "_step_output", "_position_update"],
+    "cdm": ["_contact_phase", "_velocity_update", "_step_energy", "_step_output", "_position_update", "_advance_awake"],
     "hybrid": ["_state_at_substep", "_free_span", "_propagate_free", "_hand_over_from_exact", "_cdm_substep",
                "_within_substep"],  # fmt: skip
     "exact": ["exact_point", "exact_motion", "enter_cdm", "leave_cdm"],

@@ -25,7 +25,7 @@ from .cdm import (
     storey_matvec_range,
 )
 from .hysteresis import plastic_correction
-from .jit import INTERNAL, REASSOCIATE, kernel
+from .jit import INTERNAL, REASSOCIATE, kernel, phase
 from .peaks import peaks_between_range, settle_crests, update_peaks_range
 
 
@@ -78,7 +78,7 @@ def exact_point(t, gap, structure, ground, motion, work, exact, peaks, g):
     return agx, agy
 
 
-@kernel(**INTERNAL)
+@phase
 def exact_motion(t, gap, smooth, structure, ground, motion, work, exact, peaks, g, f0, f1, c0, c1, g0, g1):
     """The state (u, v) reached at t by exact propagation, on the buildings whose floors are
     f0 … f1 − 1 (columns c0 … c1 − 1, force gauges g0 … g1 − 1): forces and accelerations
