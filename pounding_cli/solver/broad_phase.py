@@ -180,7 +180,14 @@ def pairs_to_visit(u, bodies, broad):
         _displaced_bounds(start, stop, group_axis[g], u, group_body, body_floor, body_radius, body_box, bounds)
         _sort_by_lower_bound(start, stop, order, bounds)
         n_hits = _sweep(start, stop, order, bounds, index, index_start, g, hits, n_hits, False)
-    for i in range(n_live[0]):
+    return _with_live(hits, n_hits, live, n_live[0])
+
+
+@kernel(inline="always")
+def _with_live(hits, n_hits, live, n_live):
+    """The n_hits pairs in `hits` and the n_live in `live`, ascending and without repeats, into
+    `hits`; returns their number."""
+    for i in range(n_live):
         hits[n_hits] = live[i]
         n_hits += 1
     _sort_ascending(hits, n_hits)
@@ -196,21 +203,11 @@ def pairs_to_visit(u, bodies, broad):
 def phase_pairs_to_visit(broad):
     """pairs_to_visit while buildings sleep: the phase's pairs and those in contact at the last
     step, ascending and without repeats, into `hits`; returns their number."""
-    hits, live, phase = broad.hits, broad.live, broad.phase
-    n_hits = 0
-    for i in range(broad.n_phase[0]):
-        hits[n_hits] = phase[i]
-        n_hits += 1
-    for i in range(broad.n_live[0]):
-        hits[n_hits] = live[i]
-        n_hits += 1
-    _sort_ascending(hits, n_hits)
-    n_unique = 0
+    hits, phase = broad.hits, broad.phase
+    n_hits = broad.n_phase[0]
     for i in range(n_hits):
-        if n_unique == 0 or hits[i] != hits[n_unique - 1]:
-            hits[n_unique] = hits[i]
-            n_unique += 1
-    return n_unique
+        hits[i] = phase[i]
+    return _with_live(hits, n_hits, broad.live, broad.n_live[0])
 
 
 @kernel(inline="always")

@@ -71,18 +71,8 @@ def ground_at(t, ground):
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec(x, storey_k, bottom, top, out):
-    """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s]).
-    (storey_matvec_range's loop over every storey, written out: the call it saves is 10 % of
-    a CDM step of two buildings.)"""
-    out[:] = 0.0
-    for s in range(storey_k.shape[0]):
-        b = 3 * bottom[s]
-        t = 3 * top[s]
-        for r in range(6):
-            acc = 0.0
-            for c in range(3):
-                acc += storey_k[s, r, c] * x[b + c] + storey_k[s, r, c + 3] * x[t + c]
-            out[b + r if r < 3 else t + r - 3] += acc
+    """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
+    _storey_product(x, storey_k, bottom, top, 0, storey_k.shape[0], out)
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
@@ -91,6 +81,13 @@ def storey_matvec_range(x, storey_k, bottom, top, f0, f1, out):
     is the one beneath floor s, so a building's storeys are its floors' numbers): the entries of
     those floors are set, the ground's (the last three, which no one reads) cleared, the rest
     left as they are."""
+    _storey_product(x, storey_k, bottom, top, f0, f1, out)
+
+
+@kernel(fastmath=REASSOCIATE, inline="always")
+def _storey_product(x, storey_k, bottom, top, f0, f1, out):
+    """storey_matvec_range's body, inlined into both kernels (numba's inlining: a call layer
+    cost 10 % of a CDM step of two buildings)."""
     for d in range(3 * f0, 3 * f1):
         out[d] = 0.0
     for d in range(out.size - 3, out.size):
@@ -108,27 +105,18 @@ def storey_matvec_range(x, storey_k, bottom, top, f0, f1, out):
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec_pair(x, y, storey_k, bottom, top, kx, ky):
     """kx = K·x and ky = K·y in one pass over the storeys (as storey_matvec, twice)."""
-    kx[:] = 0.0
-    ky[:] = 0.0
-    for s in range(storey_k.shape[0]):
-        b = 3 * bottom[s]
-        t = 3 * top[s]
-        for r in range(6):
-            ax = 0.0
-            ay = 0.0
-            for c in range(3):
-                k_b = storey_k[s, r, c]
-                k_t = storey_k[s, r, c + 3]
-                ax += k_b * x[b + c] + k_t * x[t + c]
-                ay += k_b * y[b + c] + k_t * y[t + c]
-            d = b + r if r < 3 else t + r - 3
-            kx[d] += ax
-            ky[d] += ay
+    _storey_pair_product(x, y, storey_k, bottom, top, 0, storey_k.shape[0], kx, ky)
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec_pair_range(x, y, storey_k, bottom, top, f0, f1, kx, ky):
     """storey_matvec_pair on the floors f0 … f1 − 1 of whole buildings (as storey_matvec_range)."""
+    _storey_pair_product(x, y, storey_k, bottom, top, f0, f1, kx, ky)
+
+
+@kernel(fastmath=REASSOCIATE, inline="always")
+def _storey_pair_product(x, y, storey_k, bottom, top, f0, f1, kx, ky):
+    """storey_matvec_pair_range's body, inlined into both kernels."""
     for d in range(3 * f0, 3 * f1):
         kx[d] = 0.0
         ky[d] = 0.0
@@ -157,23 +145,19 @@ def damping_force(v, kv, mass, damping, n_dof, out):
     link matrices (n, 6, 6), bottom and top floors (n,)): the links are 6×6 blocks on two
     floors' DOFs (the ground, an extra zero floor, for a bottom) that make an isolated
     building's C its superstructure's on its deformation (assembly/damping.py); none else."""
-    a0, a1, link, link_bottom, link_top = damping
-    for d in range(n_dof):
-        out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
-    for k in range(link.shape[0]):
-        b = 3 * link_bottom[k]
-        t = 3 * link_top[k]
-        for r in range(6):
-            acc = 0.0
-            for c in range(3):
-                acc += link[k, r, c] * v[b + c] + link[k, r, c + 3] * v[t + c]
-            out[b + r if r < 3 else t + r - 3] += acc
+    _damping_product(v, kv, mass, damping, 0, n_dof, out)
 
 
 @kernel(**INTERNAL)
 def damping_force_range(v, kv, mass, damping, d0, d1, out):
     """damping_force on the DOFs d0 … d1 − 1 of whole buildings, and the links whole (scenes
     with links never put a building to sleep, sleep.py: there the range is every DOF)."""
+    _damping_product(v, kv, mass, damping, d0, d1, out)
+
+
+@kernel(inline="always")
+def _damping_product(v, kv, mass, damping, d0, d1, out):
+    """damping_force_range's body, inlined into both kernels."""
     a0, a1, link, link_bottom, link_top = damping
     for d in range(d0, d1):
         out[d] = a0[d] * mass[d] * v[d] + a1[d] * kv[d]
