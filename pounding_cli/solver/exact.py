@@ -26,7 +26,7 @@ from .cdm import (
 )
 from .hysteresis import plastic_correction
 from .jit import INTERNAL, REASSOCIATE, kernel, phase
-from .peaks import peaks_between_range, settle_crests, update_peaks_range
+from .peaks import peaks_between, settle_crests, update_peaks_range
 
 
 @kernel(**INTERNAL)
@@ -113,8 +113,7 @@ def exact_motion(t, gap, smooth, structure, ground, motion, work, exact, peaks, 
         sx = (agx - a0x) / gap
         sy = (agy - a0y) / gap
     update_peaks_range(u, a_abs, structure, work.storey_work, peaks, f0, f1, c0, c1, g0, g1)
-    n_crests = peaks_between_range(gap, smooth, u, a_abs, sx, sy, structure, exact, work.storey_work, peaks, f0, f1,
-                                   g0, g1)  # fmt: skip
+    n_crests = peaks_between(gap, smooth, u, a_abs, sx, sy, structure, exact, work.storey_work, peaks, f0, f1, g0, g1)
     if n_crests > 0:
         crest = exact.crest
         state_series(u, exact.v, a_rel, sx, sy, structure, crest.series, crest.series_k, f0, f1)

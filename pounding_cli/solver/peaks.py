@@ -364,14 +364,7 @@ def between_arrays(col_storey: np.ndarray, col_arm: np.ndarray, n_storeys: int) 
 
 
 @kernel(**INTERNAL)
-def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks):
-    """peaks_between_range over every building."""
-    return peaks_between_range(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks, 0,
-                               structure.storey_top.size, 0, peaks.gauges.storey.size)  # fmt: skip
-
-
-@kernel(**INTERNAL)
-def peaks_between_range(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks, f0, f1, g0, g1):
+def peaks_between(h, smooth, u, a_abs, sx, sy, structure, exact, storey_work, peaks, f0, f1, g0, g1):
     """After update_peaks at an exact state (u, v = exact.v) with relative and absolute
     accelerations a_rel = exact.a_rel, a_abs: if `smooth`, the step of h s since the previous
     exact state was itself exact, and the crests over it of the column deflections, storey
