@@ -152,8 +152,10 @@ def scene_grid(
 
 def resource_size(scene: Scene) -> limits.Size:
     """What the scene stores at each output sample (for the resource limits)."""
-    forces = limits.force_values(scene.system.buildings, scene.loaded.model.analysis.column_force_histories)
-    return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size), *forces)
+    analysis = scene.loaded.model.analysis
+    forces = limits.force_values(scene.system.buildings, analysis.column_force_histories)
+    return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size), *forces,
+                       building_item=limits.HISTORY_ITEM[analysis.history_precision])  # fmt: skip
 
 
 def resource_run(scene: Scene) -> limits.Run:
@@ -557,7 +559,7 @@ def execute(
     forces = system_forces(gauges, local_system, response, loaded.model.analysis.column_force_histories)
     result = collect(
         system, response, stored_json(loaded.model), input_sha256(loaded, ground), diagnostics, scene.contact,
-        forces,
+        forces, loaded.model.analysis.history_precision,
     )
     result.diagnostics["balance_error_ratio"] = result.balance_error_ratio
     result.warnings = [n.as_dict() for n in scene.notices]

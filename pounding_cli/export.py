@@ -32,7 +32,8 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 from .errors import InputError
-from .export_forces import column_force_peak_table, column_force_table, storey_shear_peak_table, storey_shear_table
+from .export_forces import (column_force_peak_table, column_force_table, listed, storey_shear_peak_table,
+                            storey_shear_table)
 
 Column = tuple[str, str]  # (name, unit; "" for a label)
 Table = tuple[list[Column], Iterable[list[Any]]]
@@ -57,7 +58,7 @@ def _history(name: str, units: tuple[str, str, str]) -> Callable[[Any], Table]:
         def rows() -> Iterator[list[Any]]:
             for k, t in enumerate(r.time.tolist()):
                 for b in r.buildings.values():
-                    values = getattr(b, name)[k].tolist()
+                    values = listed(getattr(b, name)[k])
                     for f, v in enumerate(values, start=1):
                         yield [t, b.name, f, *v]
 
@@ -139,7 +140,7 @@ def _yielding(r: Any) -> Table:
         yielding = [(b.name, b.yielding) for b in r.buildings.values() if b.yielding is not None]
         for k, t in enumerate(r.time.tolist()):
             for name, y in yielding:
-                d, f = y.deflection[k].tolist(), y.force[k].tolist()
+                d, f = listed(y.deflection[k]), listed(y.force[k])
                 for m, member in enumerate(y.members):
                     yield [t, name, m, member["name"], member["kind"], int(member["storey"]), *d[m], *f[m]]
 
@@ -271,7 +272,7 @@ def _write_csv(tmp: Path, columns: list[Column], rows: Iterable[list[Any]]) -> i
         writer = csv.writer(out)
         writer.writerow([f"{name} [{unit}]" if unit else name for name, unit in columns])
         for row in rows:
-            writer.writerow(["" if isinstance(v, float) and math.isnan(v) else v for v in row])
+            writer.writerow(["" if isinstance(v, (float, np.floating)) and math.isnan(v) else v for v in row])
             count += 1
             if count % 100_000 == 0:
                 checkpoint()  # Ctrl-C or SIGTERM abandons the export here

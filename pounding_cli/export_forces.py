@@ -5,10 +5,21 @@ from __future__ import annotations
 
 from typing import Any, Iterator
 
+import numpy as np
+
 from .assembly.force_gauges import STOREY_COMPONENTS, STOREY_UNITS
 
 STOREY_COLUMNS = [(name, unit.replace("·", "*")) for name, unit in zip(STOREY_COMPONENTS, STOREY_UNITS)]
 COLUMN_COLUMNS = [("shear_x", "N"), ("shear_y", "N"), ("moment_x", "N*m"), ("moment_y", "N*m")]
+
+
+def listed(a: np.ndarray) -> list[Any]:
+    """a.tolist(), but the values of a float32 history (analysis.history_precision = "single")
+    kept as numpy scalars, which the CSV gets in their shortest form (1.0312335e-07, not the
+    float64 digits of the same number, 1.0312334808304513e-07, which it never had)."""
+    if a.dtype != np.float32:
+        return a.tolist()
+    return [listed(x) for x in a] if a.ndim > 1 else list(a)
 
 
 def _with_forces(r: Any) -> list[Any]:
@@ -24,7 +35,7 @@ def storey_shear_table(r: Any) -> tuple[list[tuple[str, str]], Iterator[list[Any
         buildings = _with_forces(r)
         for k, t in enumerate(r.time.tolist()):
             for b in buildings:
-                for s, v in enumerate(b.forces.storey_shear[k].tolist(), start=1):
+                for s, v in enumerate(listed(b.forces.storey_shear[k]), start=1):
                     yield [t, b.name, s, *v]
 
     return columns, rows()
@@ -39,7 +50,7 @@ def column_force_table(r: Any) -> tuple[list[tuple[str, str]], Iterator[list[Any
         buildings = [b for b in _with_forces(r) if b.forces.column_shear is not None]
         for k, t in enumerate(r.time.tolist()):
             for b in buildings:
-                shear, moment = b.forces.column_shear[k].tolist(), b.forces.column_moment[k].tolist()
+                shear, moment = listed(b.forces.column_shear[k]), listed(b.forces.column_moment[k])
                 for c, name in enumerate(b.column_names):
                     for s, v in enumerate(shear[c]):
                         if v[0] == v[0]:  # NaN: the line has no column in this storey

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -246,15 +246,17 @@ class Size:
     n_members: int
     n_forces: int = 0  # storey shear and floor contact force values (force_values)
     n_column_forces: int = 0  # column force values, when their histories are asked for (force_values)
+    building_item: int = 8  # bytes of a value of the buildings' histories (HISTORY_ITEM)
 
     @property
     def per_sample(self) -> int:
-        """Bytes of history per output sample: time (1), ground acceleration (2), displacement,
-        velocity and acceleration of every DOF (3 each), energy (7), normal and tangential force,
-        area, depth and action point of every contact pair (6), deflection and force of every
-        yielding member (4), the forces (force_values); float64 throughout."""
-        return 8 * (1 + 2 + 3 * self.n_dof + 7 + 6 * self.n_pairs + 4 * self.n_members + self.n_forces
-                    + self.n_column_forces)  # fmt: skip
+        """Bytes of history per output sample: time (1), ground acceleration (2), energy (7),
+        normal and tangential force, area, depth and action point of every contact pair (6), in
+        float64; displacement, velocity and acceleration of every DOF (3 each), deflection and
+        force of every yielding member (4) and the forces (force_values), in the buildings'
+        history precision (building_item bytes)."""
+        return (8 * (1 + 2 + 7 + 6 * self.n_pairs)
+                + self.building_item * (3 * self.n_dof + 4 * self.n_members + self.n_forces + self.n_column_forces))  # fmt: skip
 
 
 def force_values(buildings, column_histories: bool) -> tuple[int, int]:  # type: ignore[no-untyped-def]
@@ -264,6 +266,10 @@ def force_values(buildings, column_histories: bool) -> tuple[int, int]:  # type:
     storeys = sum(6 * b.n_floors + 6 + 3 * b.n_floors for b in buildings)
     columns = sum(4 * len(b.column_lines) * b.n_floors for b in buildings) if column_histories else 0
     return storeys, columns
+
+
+HISTORY_ITEM = {"double": 8, "single": 4}
+"""Bytes of a stored value of the buildings' histories of each analysis.history_precision."""
 
 
 def history_bytes(size: Size, samples: int) -> int:
@@ -276,8 +282,9 @@ def memory_bytes(size: Size, samples: int) -> int:
     """Memory the run needs for its histories at most: the solver's arrays, as large as the
     histories, and the copies made while the results are cut per building and written, at
     most as large again (the peak memory of the shipped examples with 80–200 MiB of histories
-    rose by 1.3–1.8 times their size); plus the impact log's buffer."""
-    return 2 * history_bytes(size, samples) + (EVENT_BUFFER_BYTES if size.n_pairs else 0)
+    rose by 1.3–1.8 times their size), counted in float64 whatever the stored precision (the
+    solver's are); plus the impact log's buffer."""
+    return 2 * history_bytes(replace(size, building_item=8), samples) + (EVENT_BUFFER_BYTES if size.n_pairs else 0)
 
 
 def check_structure(system, source: str | Path) -> None:  # type: ignore[no-untyped-def]
@@ -354,18 +361,20 @@ def check_run(run: Run, size: Size, source: str | Path, setup: Setup | None = No
             field=field,
         )
     extra = setup_bytes(setup) if setup is not None else 0.0
-    for estimate, most, what, variable, more in (
-        (history_bytes(size, run.n_outputs), max_output_bytes(), "its result file would take", "POUND_MAX_OUTPUT_GB", 0.0),
-        (memory_bytes(size, run.n_outputs), max_memory_bytes(), "its time histories would hold", "POUND_MAX_MEMORY_GB",
-         extra),
+    in_memory = replace(size, building_item=8)  # the solver's histories are float64 whatever is stored
+    for held, estimate, most, what, variable, more in (
+        (size, history_bytes(size, run.n_outputs), max_output_bytes(), "its result file would take",
+         "POUND_MAX_OUTPUT_GB", 0.0),
+        (in_memory, memory_bytes(size, run.n_outputs), max_memory_bytes(), "its time histories would hold",
+         "POUND_MAX_MEMORY_GB", extra),
     ):  # fmt: skip
         if estimate + more > most:
-            field, why = _sample_cause(run, size, estimate, most - more)
+            field, why = _sample_cause(run, held, estimate, most - more, stored=held is not in_memory)
             besides = f" beside the {_gib(more)} of setting it up" if more >= 2**20 else ""
             raise InputError(
                 f"{what} {_gib(estimate)} ({run.n_outputs:.3g} samples every {run.output_interval:.3g} s × "
-                f"{size.per_sample} bytes: {size.n_dof} DOFs, {size.n_pairs} contact pairs, {size.n_members} "
-                f"yielding members, {size.n_forces + size.n_column_forces} force values){besides}, more than the limit of {_gib(most)} ({variable}); {why}",
+                f"{held.per_sample} bytes: {held.n_dof} DOFs, {held.n_pairs} contact pairs, {held.n_members} "
+                f"yielding members, {held.n_forces + held.n_column_forces} force values){besides}, more than the limit of {_gib(most)} ({variable}); {why}",
                 file=source,
                 field=field,
             )
@@ -457,12 +466,18 @@ def _suspect(run: Run, within: list[str]) -> tuple[str, str] | None:
     return next(((f, m) for f, m in run.suspects if any(f.startswith(w) for w in within)), None)
 
 
-def _sample_cause(run: Run, size: Size, estimate: float, most: float) -> tuple[str, str]:
-    """The field that makes the stored histories too large, and what to do about it."""
-    if size.n_column_forces and estimate * (1 - 8 * size.n_column_forces / size.per_sample) <= most:
+def _sample_cause(run: Run, size: Size, estimate: float, most: float, stored: bool) -> tuple[str, str]:
+    """The field that makes the histories too large (`stored`: the file's, else memory's), and
+    what to do about it."""
+    if size.n_column_forces and estimate * (1 - size.building_item * size.n_column_forces / size.per_sample) <= most:
         return "analysis.column_force_histories", (
             "the column force histories take most of it: set column_force_histories = false (the columns' peak "
             "forces are stored regardless)"
+        )
+    if stored and size.building_item == 8 and history_bytes(replace(size, building_item=4), run.n_outputs) <= most:
+        return "analysis.history_precision", (
+            'the buildings\' histories in single precision would fit: set history_precision = "single" (7 '
+            "significant digits; peaks, impact log and energies stay in double precision)"
         )
     if run.given_duration is not None and estimate * run.record_duration / run.duration <= most:
         return "analysis.duration", (

@@ -83,6 +83,31 @@ def test_histories_read_back_exactly(pounding: Path, tmp_path: Path) -> None:
     assert read_csv(tmp_path / "yielding.csv")[1] == []  # no yielding members: the header alone
 
 
+def test_single_precision_histories_are_written_in_their_shortest_form(tmp_path: Path) -> None:
+    """A run with history_precision = "single" (here the isolated building with its yielding
+    isolators): each float32 history value is written with the fewest digits that read back
+    to it (numpy's shortest repr, at most 9 significant digits), not the 17 of the float64
+    that holds it; read as float32 it is the stored value exactly."""
+    doc = read_document(INPUTS / "isolated_moat.toml")
+    doc["analysis"].update(duration=2.0, history_precision="single", column_force_histories=True)
+    out = tmp_path / "single.h5"
+    pound.run_model(load_doc(doc), output=out)
+    r = pound.read_hdf5(out)
+    pound.export_csv(out, tmp_path, ["displacement", "storey_shear", "column_forces", "yielding"])
+    name, b = next(iter(r.buildings.items()))
+    for file, column, key, stored in (("displacement.csv", 3, "1", b.displacement[:, 0, 0]),  # floor 1
+                                      ("storey_shear.csv", 3, "1", b.forces.storey_shear[:, 0, 0]),  # storey 1
+                                      ("column_forces.csv", -4, None, None),
+                                      ("yielding.csv", 6, "0", b.yielding.deflection[:, 0, 0])):  # fmt: skip
+        header, rows = read_csv(tmp_path / file)
+        rows = [row for row in rows if row[1] == name and key in (None, row[2])]
+        cells = [row[column] for row in rows if row[column] != ""]
+        digits = [len(c.split("e")[0].replace("-", "").replace(".", "").strip("0")) for c in cells]
+        assert cells and max(digits) <= 9, file
+        if stored is not None:
+            assert_array_equal(np.array(cells, dtype=np.float32), stored, err_msg=file)
+
+
 def test_peaks_and_impacts_read_back(pounding: Path, tmp_path: Path) -> None:
     r = pound.read_hdf5(pounding)
     pound.export_csv(pounding, tmp_path, ["peaks", "impacts"])

@@ -15,6 +15,7 @@ import pounding_cli as pound
 from pounding_cli import api, limits
 from pounding_cli.cli import app
 from pounding_cli.errors import InputError
+from pounding_cli.model.load import read_document, validate_model
 
 from conftest import INPUTS, example_doc, load_doc
 
@@ -167,6 +168,28 @@ def test_column_force_histories_are_counted_and_named_when_they_are_the_cause():
         pound.describe(load_doc(doc))  # within the limit without them
 
 
+def test_single_precision_histories_halve_the_buildings_part_and_are_named_when_they_would_fit():
+    """Of the 1328 bytes per sample, the buildings' histories are 138 values (3 × 21 DOFs and
+    75 force values), 4 bytes each in single precision: 224 + 552 = 776 bytes. 340 001 samples
+    take 0.4205 GiB in double, 0.2457 GiB in single precision: a 0.3 GiB limit refuses the
+    first, naming analysis.history_precision, and passes the second. Memory is counted in
+    double precision either way (the solver's histories are)."""
+    doc = example_doc()
+    doc["analysis"]["output_interval"] = 1e-4
+    message = refusal(doc, MAX_OUTPUT_GB=0.3)
+    assert "analysis.history_precision: its result file would take 430.6 MiB" in message
+    assert message.endswith('set history_precision = "single" (7 significant digits; peaks, impact log and '
+                            "energies stay in double precision)")  # fmt: skip
+    doc["analysis"]["history_precision"] = "single"
+    scene = api.prepare(load_doc(doc))
+    assert api.resource_size(scene).per_sample == 776
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("POUND_MAX_OUTPUT_GB", "0.3")
+        pound.describe(load_doc(doc))
+    # memory: the same 2 × 1328 bytes a sample in both precisions
+    assert limits.memory_bytes(api.resource_size(scene), 10) == 2 * 1328 * 10 + limits.EVENT_BUFFER_BYTES
+
+
 def test_the_command_line_exits_2_with_the_message(tmp_path):
     doc = example_doc()
     doc["analysis"]["output_interval"] = 1e-9
@@ -178,18 +201,24 @@ def test_the_command_line_exits_2_with_the_message(tmp_path):
     assert result.stderr.startswith(f"{path}: analysis.output_interval: the analysis would take 3.4e+10 time steps")
 
 
-@pytest.mark.parametrize("name", ["paper_pounding", "paper_inelastic", "isolated_moat"])
-def test_the_disk_estimate_matches_the_real_file(tmp_path, name):
+@pytest.mark.parametrize("name, precision", [("paper_pounding", "double"), ("paper_inelastic", "double"),
+                                             ("isolated_moat", "double"), ("paper_pounding", "single")])  # fmt: skip
+def test_the_disk_estimate_matches_the_real_file(tmp_path, name, precision):
     """The estimate counts every time history the file holds; the rest (column and floor
     tables, peaks, modes, the impact log, attributes, HDF5's own structure) is a few tens of
     kB, so the real file is at most 1.05 times the estimate for the shipped examples (measured
     before the contact histories were stored sparsely: 1.004–1.017). The contact histories
     (6 per pair) and floor contact forces (3 per floor) are written only where they hold a
-    value (results/sparse.py), so the file is at least the estimate without them."""
-    scene = api.prepare(INPUTS / f"{name}.toml")
+    value (results/sparse.py), so the file is at least the estimate without them. In single
+    precision the buildings' histories take 4 bytes a value (the floor contact forces too in
+    the estimate)."""
+    doc = read_document(INPUTS / f"{name}.toml")
+    doc["analysis"]["history_precision"] = precision
+    scene = api.prepare(validate_model(doc, INPUTS / f"{name}.toml"))
     size = api.resource_size(scene)
     estimate = limits.history_bytes(size, scene.grid.n_outputs)
-    sparse = 8 * (6 * size.n_pairs + 3 * sum(b.n_floors for b in scene.system.buildings)) * scene.grid.n_outputs
+    floors = sum(b.n_floors for b in scene.system.buildings)
+    sparse = (8 * 6 * size.n_pairs + size.building_item * 3 * floors) * scene.grid.n_outputs
     api.execute(scene, tmp_path / "out.h5")
     real = (tmp_path / "out.h5").stat().st_size
     assert estimate - sparse <= real <= 1.05 * estimate, (real, estimate, sparse)

@@ -63,3 +63,11 @@ class Analysis(Strict):
     (N·m) at the output interval, besides their peaks, which are always stored: 4 numbers per
     column and storey per sample, counted in the result file's size (the resource limits).
     Storey shears and the base shear are always stored as histories."""
+
+    history_precision: Literal["double", "single"] = "double"
+    """Floating-point precision of the buildings' stored time histories (displacements,
+    velocities, accelerations, storey and base shears, column forces, yielding members'
+    deflections and forces): "double" (float64, 16 significant digits) or "single" (float32,
+    7 digits, relative rounding ≤ 6e-8: half the file and half the time to write it). The
+    solver computes in double precision either way, and the peaks, impact log, contact
+    histories, energies and ground motion are always stored in double precision."""

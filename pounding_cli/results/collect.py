@@ -16,8 +16,14 @@ if TYPE_CHECKING:  # the integrator (and numba) load when a run needs them
     from ..solver.integrate import Response
 
 
-def yielding_result(bld: BuildingArrays, response: Response, offset: int) -> YieldingResult | None:
-    """Building bld's yielding members, rows offset … of the response's member arrays."""
+HISTORY_DTYPE = {"double": np.float64, "single": np.float32}
+"""The stored histories' dtype of each analysis.history_precision."""
+
+
+def yielding_result(bld: BuildingArrays, response: Response, offset: int,
+                    dtype: type = np.float64) -> YieldingResult | None:  # fmt: skip
+    """Building bld's yielding members, rows offset … of the response's member arrays, their
+    histories as `dtype`."""
     n = len(bld.members)
     if n == 0:
         return None
@@ -30,16 +36,17 @@ def yielding_result(bld: BuildingArrays, response: Response, offset: int) -> Yie
     history = response.member_history[:, cut]
     return YieldingResult(
         members=rows,
-        deflection=history[:, :, :2].copy(),
-        force=history[:, :, 2:].copy(),
+        deflection=history[:, :, :2].astype(dtype),
+        force=history[:, :, 2:].astype(dtype),
         peak=response.peak_member[cut].copy(),
         residual_deflection=response.residual_member[cut].copy(),
     )
 
 
-def building_result(system: System, b: int, response: Response, column_offset: int,
-                    member_offset: int = 0, forces: SystemForces | None = None) -> BuildingResult:  # fmt: skip
-    """Cut building b's part out of a response; its column instances start at column_offset."""
+def building_result(system: System, b: int, response: Response, column_offset: int, member_offset: int = 0,
+                    forces: SystemForces | None = None, dtype: type = np.float64) -> BuildingResult:  # fmt: skip
+    """Cut building b's part out of a response, its histories as `dtype` (HISTORY_DTYPE); its
+    column instances start at column_offset."""
     bld: BuildingArrays = system.buildings[b]
     dofs = system.building_dofs(b)
     n = bld.n_floors
@@ -52,9 +59,9 @@ def building_result(system: System, b: int, response: Response, column_offset: i
     lines = bld.column_lines
     return BuildingResult(
         name=bld.name,
-        displacement=response.displacement[:, dofs].reshape(nt, n, 3),
-        velocity=response.velocity[:, dofs].reshape(nt, n, 3),
-        acceleration=response.acceleration[:, dofs].reshape(nt, n, 3),
+        displacement=response.displacement[:, dofs].reshape(nt, n, 3).astype(dtype, copy=False),
+        velocity=response.velocity[:, dofs].reshape(nt, n, 3).astype(dtype, copy=False),
+        acceleration=response.acceleration[:, dofs].reshape(nt, n, 3).astype(dtype, copy=False),
         column_names=[c.name for c in lines],
         column_local=np.array([c.local for c in lines], dtype=float).reshape(-1, 2),
         column_plan=np.array([c.plan for c in lines], dtype=float).reshape(-1, 2),
@@ -69,10 +76,10 @@ def building_result(system: System, b: int, response: Response, column_offset: i
         periods=bld.modes.periods.copy(),
         participation=bld.modes.participation.copy(),
         rayleigh=(float(bld.rayleigh[0]), float(bld.rayleigh[1])),
-        yielding=yielding_result(bld, response, member_offset),
+        yielding=yielding_result(bld, response, member_offset, dtype),
         isolated=bld.isolated,
         base_elevation=bld.base_elevation,
-        forces=force_result(forces, system, b, response, column_offset) if forces is not None else None,
+        forces=force_result(forces, system, b, response, column_offset, dtype) if forces is not None else None,
     )
 
 
@@ -118,13 +125,16 @@ def collect(
     diagnostics: dict[str, Any],
     contact: ContactArrays | None = None,
     forces: SystemForces | None = None,
+    precision: str = "double",
 ) -> RunResult:
     """Assemble a RunResult from the solver's response (with `forces`, results/forces.py, the
-    buildings' storey shears and column forces)."""
+    buildings' storey shears and column forces), the buildings' histories in `precision`
+    (analysis.history_precision)."""
+    dtype = HISTORY_DTYPE[precision]
     buildings = {}
     offset = members = 0
     for b, bld in enumerate(system.buildings):
-        buildings[bld.name] = building_result(system, b, response, offset, members, forces)
+        buildings[bld.name] = building_result(system, b, response, offset, members, forces, dtype)
         offset += len(bld.columns)
         members += len(bld.members)
     return RunResult(

@@ -114,15 +114,17 @@ def system_forces(gauges: ForceGauges, system, response, histories: bool) -> Sys
     return SystemForces(gauges, deflection, plastic, storey_shears(gauges, deflection, resultant), histories)
 
 
-def force_result(forces: SystemForces, system, b: int, response, column_offset: int) -> ForceResult:  # type: ignore[no-untyped-def]
-    """Building b's forces; its column instances start at column_offset. A building stands on
-    one storey (its lowest, or its isolation storey): its base shear and that storey's are one."""
+def force_result(forces: SystemForces, system, b: int, response, column_offset: int,  # type: ignore[no-untyped-def]
+                 dtype: type = np.float64) -> ForceResult:  # fmt: skip
+    """Building b's forces, the histories as `dtype`; its column instances start at
+    column_offset. A building stands on one storey (its lowest, or its isolation storey): its
+    base shear and that storey's are one."""
     bld = system.buildings[b]
     gauges = forces.gauges
     storeys = slice(int(system.floor_start[b]), int(system.floor_start[b + 1]))
     cols = slice(column_offset, column_offset + len(bld.columns))
     g0 = gauges.storey_gauge[storeys]
-    shear = forces.storey_shear[:, storeys]
+    shear = forces.storey_shear[:, storeys].astype(dtype, copy=False)
     peak_storey = response.peak_gauge[g0[:, None] + np.arange(N_STOREY)]
     base = int(np.flatnonzero(system.storey_bottom[storeys] < 0)[0])
     heights = gauges.column_height[cols, None]
@@ -139,6 +141,6 @@ def force_result(forces: SystemForces, system, b: int, response, column_offset: 
     )
     if forces.histories:
         v = column_shears(gauges, forces.deflection, forces.plastic, system.column_storey)[:, cols]
-        result.column_shear = by_line(bld, v)
-        result.column_moment = by_line(bld, v * (0.5 * heights))
+        result.column_shear = by_line(bld, v).astype(dtype, copy=False)
+        result.column_moment = by_line(bld, v * (0.5 * heights)).astype(dtype, copy=False)
     return result
