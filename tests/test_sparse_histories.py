@@ -15,7 +15,8 @@ from numpy.testing import assert_array_equal
 
 import pounding_cli as pound
 
-from conftest import INPUTS
+from conftest import INPUTS, load_doc
+from pounding_cli.model.load import read_document
 
 OLD = Path(__file__).parent / "data" / "paper_pounding_main_f3049db.h5"
 """Written by main's code at f3049db (before this layout): inputs/paper_pounding.toml with
@@ -94,18 +95,38 @@ def test_a_file_written_by_the_dense_layout_still_reads(tmp_path):
     assert export.returncode == 0, export.stderr
 
 
-def test_a_file_of_many_buildings_keeps_its_scales_attributes_dense(tmp_path, monkeypatch):
-    """Each dataset attached to /time adds to its REFERENCE_LIST; HDF5's earliest format holds
-    about 4,000 (a 700-building file), so above DENSE_ATTRIBUTES_BUILDINGS the file is written in
-    HDF5 1.8's format. Forced here for the pounding example: it reads back the same."""
+def _with_copies(result, copies: int):
+    """`result` without its contact, its buildings repeated `copies` times under new names."""
+    from dataclasses import replace
+
+    buildings = {f"{name}{k}": b for k in range(copies) for name, b in result.buildings.items()}
+    return replace(result, buildings=buildings, contact=None)
+
+
+def test_each_building_hangs_on_its_own_time_scale_so_files_grow_linearly(tmp_path):
+    """Every building's histories are attached to its own time scale, a virtual dataset of
+    /time (hdf5.building_time), not to /time: each attachment to one scale rewrites its whole
+    REFERENCE_LIST, so a file of N buildings took time and space ~N² (10,000 buildings: 13 of
+    22 GB) and HDF5's earliest format could not hold the list past ~700 buildings. Here 400
+    buildings (200 copies of the example's two) take the same bytes per building as 50, to
+    1 % (the file's fixed part, /time, /ground and the energies, is shared out), /time lists
+    none of the buildings' datasets, and each building's time reads as /time."""
     from pounding_cli.results import hdf5
 
-    result = pound.run_model(INPUTS / "paper_pounding.toml")
-    monkeypatch.setattr(hdf5, "DENSE_ATTRIBUTES_BUILDINGS", 1)
-    path = hdf5.write_hdf5(result, tmp_path / "v108.h5")
-    with h5py.File(path) as f:
-        assert f.id.get_create_plist().get_version()[0] >= 2, "the superblock of HDF5 1.8's format"
-    again = pound.read_hdf5(path)
-    for name, bld in result.buildings.items():
-        assert_array_equal(again.buildings[name].displacement, bld.displacement)
-    assert_array_equal(again.contact.normal_force, result.contact.normal_force)
+    doc = read_document(INPUTS / "paper_pounding.toml")
+    doc["analysis"]["duration"] = 0.5
+    result = pound.run_model(load_doc(doc))
+    sizes = {}
+    for copies in (25, 200):
+        path = hdf5.write_hdf5(_with_copies(result, copies), tmp_path / f"{copies}.h5")
+        sizes[copies] = path.stat().st_size / (2 * copies)
+    assert abs(sizes[200] / sizes[25] - 1) < 0.01, sizes
+    with h5py.File(tmp_path / "200.h5") as f:
+        listed = {f[ref].name for ref, _ in f["time"].attrs["REFERENCE_LIST"]}
+        assert "/energy" in listed and not any(name.startswith("/buildings") for name in listed), listed
+        building = f["buildings/right199"]
+        assert building["time"].is_virtual
+        assert_array_equal(building["time"][()], f["time"][()])
+        assert building["displacement"].dims[0][0] == building["time"]
+    again = pound.read_hdf5(tmp_path / "200.h5")
+    assert_array_equal(again.buildings["left199"].displacement, result.buildings["left"].displacement)

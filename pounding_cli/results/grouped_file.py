@@ -24,7 +24,7 @@ import numpy as np
 
 from ..atomic import atomic_stream, hdf5_writer
 from ..interrupts import checkpoint, deferred, results_written
-from .hdf5 import _write_all_but_buildings, _write_building, _write_time_and_ground, file_options
+from .hdf5 import FILE_OPTIONS, _write_all_but_buildings, _write_building, _write_time_and_ground
 from .result import CONTACT_HISTORIES, BuildingResult, ContactResult, RunResult
 from .sparse import held
 
@@ -69,7 +69,7 @@ class GroupedFile:
 def grouped_file(path: Path, names: list[str]) -> Iterator[GroupedFile]:
     """A GroupedFile for `path`, buildings `names` in order; renamed into place when the block
     ends after finish(), removed when it raises (then nothing is written)."""
-    with atomic_stream(path, committed=results_written) as tmp, hdf5_writer(tmp, **file_options(len(names))) as f:
+    with atomic_stream(path, committed=results_written) as tmp, hdf5_writer(tmp, **FILE_OPTIONS) as f:
         stream = GroupedFile(f, names)
         yield stream
         if not stream.finished:

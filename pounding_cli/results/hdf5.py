@@ -112,29 +112,19 @@ def _dims(ds: h5py.Dataset, *scales: h5py.Dataset, group: h5py.Group | None = No
             group[name] = scale
 
 
-DENSE_ATTRIBUTES_BUILDINGS = 200
-"""Above this many buildings the file is written in HDF5 1.8's format (libver "v108"), whose
-object headers keep large attributes densely: each dataset attached to a dimension scale adds
-an entry to the scale's REFERENCE_LIST attribute, and with a thousand buildings /time's
-outgrows the 64 KiB of the earliest format (H5DSattach_scale fails). HDF5 1.8 (2008) and
-later, h5py and netCDF-4 read it; smaller files keep the earliest format."""
-
-
 def write_hdf5(result: RunResult, path: str | Path) -> Path:
     """Write a run's results to `path` atomically; returns the path. A file that cannot be
     written is an InputError naming `path` and the system's reason (pounding_cli.atomic)."""
     path = Path(path)
     with atomic_path(path, committed=results_written) as tmp:
-        with hdf5_writer(tmp, **file_options(len(result.buildings))) as f:
+        with hdf5_writer(tmp, **FILE_OPTIONS) as f:
             _write(f, result)
     result.output = path
     return path
 
 
-def file_options(buildings: int) -> dict[str, Any]:
-    """h5py.File's options for a result file of this many buildings."""
-    return {"track_order": True, "alignment_threshold": MAP_BYTES, "alignment_interval": ALIGNMENT,
-            **({"libver": ("v108", "v108")} if buildings > DENSE_ATTRIBUTES_BUILDINGS else {})}  # fmt: skip
+FILE_OPTIONS: dict[str, Any] = {"track_order": True, "alignment_threshold": MAP_BYTES, "alignment_interval": ALIGNMENT}
+"""h5py.File's options for a result file, of any number of buildings (building_time)."""
 
 
 def _write(f: h5py.File, r: RunResult) -> None:
@@ -246,7 +236,26 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
     _dataset(g, "action_point", c.action_point, "m", axes="global", **{**common, "dims": (time, pair, axis)})
 
 
+def building_time(g: h5py.Group, time: h5py.Dataset) -> h5py.Dataset:
+    """The time scale of building group g, to which its histories are attached: a virtual
+    dataset of /time (`time`), holding no data of its own (HDF5 1.10's virtual datasets; any
+    h5py, netCDF-4 and xarray read it as /time's values). Attaching every building's histories
+    to /time itself would add each to /time's REFERENCE_LIST attribute, which HDF5 rewrites
+    whole at every attachment: quadratic in the buildings, in time and in file space (10,000
+    buildings: 13 of the file's 22 GB, and the earliest file format cannot hold the list past
+    some 700 buildings at all). Each building's scale lists its own few."""
+    layout = h5py.VirtualLayout(shape=time.shape, dtype=time.dtype)
+    layout[:] = h5py.VirtualSource(".", time.name, shape=time.shape)  # ".": this file, whatever its name
+    ds = g.create_virtual_dataset("time", layout)
+    ds.attrs["units"] = "s"
+    ds.attrs["description"] = "times of the stored samples: /time (a virtual dataset of it)"
+    ds.make_scale("time")
+    return ds
+
+
 def _write_building(g: h5py.Group, b: BuildingResult, time: h5py.Dataset) -> None:
+    """Building b into group g; `time`: /time, of which its histories get a view (building_time)."""
+    time = building_time(g, time)
     n = b.elevation.size
     floor = _scale(g, "floor", np.arange(1, n + 1), description="floor level, 1 = lowest")
     storey = _scale(g, "storey", np.arange(1, n + 1), description="storey s is below floor s")
