@@ -47,6 +47,7 @@ from .model import Analysis, LoadedModel, load_model
 from .model.placement import stored_json
 from .results import RunResult, collect, write_hdf5
 from .results.forces import system_forces
+from .results.result import HISTORY_DTYPE
 from .solver.tunables import MAX_RERUNS, RERUN_MARGIN
 
 G = 9.80665
@@ -155,7 +156,7 @@ def resource_size(scene: Scene) -> limits.Size:
     analysis = scene.loaded.model.analysis
     forces = limits.force_values(scene.system.buildings, analysis.column_force_histories)
     return limits.Size(scene.system.n_dof, scene.contact.n_pairs, int(scene.system.members.top.size), *forces,
-                       building_item=limits.HISTORY_ITEM[analysis.history_precision])  # fmt: skip
+                       building_item=HISTORY_DTYPE[analysis.history_precision].itemsize)  # fmt: skip
 
 
 def resource_run(scene: Scene) -> limits.Run:

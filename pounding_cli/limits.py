@@ -246,7 +246,7 @@ class Size:
     n_members: int
     n_forces: int = 0  # storey shear and floor contact force values (force_values)
     n_column_forces: int = 0  # column force values, when their histories are asked for (force_values)
-    building_item: int = 8  # bytes of a value of the buildings' histories (HISTORY_ITEM)
+    building_item: int = 8  # bytes of a value of the buildings' histories (results.result.HISTORY_DTYPE)
 
     @property
     def per_sample(self) -> int:
@@ -266,10 +266,6 @@ def force_values(buildings, column_histories: bool) -> tuple[int, int]:  # type:
     storeys = sum(6 * b.n_floors + 6 + 3 * b.n_floors for b in buildings)
     columns = sum(4 * len(b.column_lines) * b.n_floors for b in buildings) if column_histories else 0
     return storeys, columns
-
-
-HISTORY_ITEM = {"double": 8, "single": 4}
-"""Bytes of a stored value of the buildings' histories of each analysis.history_precision."""
 
 
 def history_bytes(size: Size, samples: int) -> int:

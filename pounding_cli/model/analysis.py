@@ -68,6 +68,7 @@ class Analysis(Strict):
     """Floating-point precision of the buildings' stored time histories (displacements,
     velocities, accelerations, storey and base shears, column forces, yielding members'
     deflections and forces): "double" (float64, 16 significant digits) or "single" (float32,
-    7 digits, relative rounding ≤ 6e-8: half the file and half the time to write it). The
+    7 digits, relative rounding ≤ 6e-8: about half the file; writing, bound by the file's
+    metadata, takes as long). The
     solver computes in double precision either way, and the peaks, impact log, contact
     histories, energies and ground motion are always stored in double precision."""

@@ -10,18 +10,15 @@ from ..assembly import BuildingArrays, ContactArrays, System
 from ..solver import layout as kernel
 from .column_demand import column_demand
 from .forces import SystemForces, force_result
-from .result import EVENT_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult, YieldingResult
+from .result import (EVENT_DTYPE, HISTORY_DTYPE, MEMBER_DTYPE, PAIR_DTYPE, BuildingResult, ContactResult, RunResult,
+                     YieldingResult)
 
 if TYPE_CHECKING:  # the integrator (and numba) load when a run needs them
     from ..solver.integrate import Response
 
 
-HISTORY_DTYPE = {"double": np.float64, "single": np.float32}
-"""The stored histories' dtype of each analysis.history_precision."""
-
-
 def yielding_result(bld: BuildingArrays, response: Response, offset: int,
-                    dtype: type = np.float64) -> YieldingResult | None:  # fmt: skip
+                    dtype: np.dtype = HISTORY_DTYPE["double"]) -> YieldingResult | None:  # fmt: skip
     """Building bld's yielding members, rows offset … of the response's member arrays, their
     histories as `dtype`."""
     n = len(bld.members)
@@ -44,7 +41,8 @@ def yielding_result(bld: BuildingArrays, response: Response, offset: int,
 
 
 def building_result(system: System, b: int, response: Response, column_offset: int, member_offset: int = 0,
-                    forces: SystemForces | None = None, dtype: type = np.float64) -> BuildingResult:  # fmt: skip
+                    forces: SystemForces | None = None,
+                    dtype: np.dtype = HISTORY_DTYPE["double"]) -> BuildingResult:  # fmt: skip
     """Cut building b's part out of a response, its histories as `dtype` (HISTORY_DTYPE); its
     column instances start at column_offset."""
     bld: BuildingArrays = system.buildings[b]

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly.force_gauges import N_STOREY, ForceGauges
-from .result import ForceResult
+from .result import HISTORY_DTYPE, ForceResult
 
 
 def storey_deflections(gauges: ForceGauges, displacement: np.ndarray, bottom: np.ndarray,
@@ -115,7 +115,7 @@ def system_forces(gauges: ForceGauges, system, response, histories: bool) -> Sys
 
 
 def force_result(forces: SystemForces, system, b: int, response, column_offset: int,  # type: ignore[no-untyped-def]
-                 dtype: type = np.float64) -> ForceResult:  # fmt: skip
+                 dtype: np.dtype = HISTORY_DTYPE["double"]) -> ForceResult:  # fmt: skip
     """Building b's forces, the histories as `dtype`; its column instances start at
     column_offset. A building stands on one storey (its lowest, or its isolation storey): its
     base shear and that storey's are one."""

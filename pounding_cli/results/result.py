@@ -11,6 +11,10 @@ import numpy as np
 from ..solver.layout import ENERGY_NAMES
 
 
+HISTORY_DTYPE = {"double": np.dtype(np.float64), "single": np.dtype(np.float32)}
+"""The dtype of the buildings' stored histories for each analysis.history_precision (its
+itemsize: their bytes a value in the resource limits' file estimate)."""
+
 MEMBER_DTYPE = np.dtype(
     [
         ("name", object),
