@@ -30,7 +30,7 @@ from .assembly import (
     ground_motion,
     time_grid,
 )
-from .assembly.contact import observed_contact_omega
+from .assembly.contact import observed_pair_omega
 from .assembly.levels import scene_unmet_neighbours
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
@@ -476,6 +476,14 @@ def run_model(
             return execute(scene, path, progress)
 
 
+def stiffer_than_stepped(met: np.ndarray, grid: TimeGrid, response: Any) -> np.ndarray:
+    """(n_pairs,) bool: the pairs whose contacts met an ω (`met`, rad/s) more than RERUN_MARGIN
+    above what the longest step they took follows (the contact step's ω over the pair's step
+    ratio, solver Response.pair_dt_ratio)."""
+    ratio = response.pair_dt_ratio if response.pair_dt_ratio is not None else np.ones(met.size)
+    return met > RERUN_MARGIN * grid.contact_step_omega / ratio
+
+
 def where_it_failed(system: System, dof: int) -> str:
     """'first at building 'left', floor 3 (u_x)' for a global DOF index."""
     floor = dof // 3
@@ -492,11 +500,16 @@ def execute(
 
     With Δt = "auto" the contact step follows the contacts the scene is likely to make
     (assembly/contact.py: omega_step). When the run meets a contact stiffer than that by more
-    than RERUN_MARGIN (observed_contact_omega), it is repeated at the step that contact needs,
+    than RERUN_MARGIN (observed_pair_omega), it is repeated at the step that contact needs,
     up to MAX_RERUNS times, then at the outlines' upper bound; the wall and compile times
     count every attempt. Where candidates were pruned by reach, a run in which a pruned pair
     could have touched is repeated with a wider reach (city/rerun.py; `reach_reruns`: the
-    attempts so far)."""
+    attempts so far).
+
+    With Δt = "auto", each contact phase of the hybrid takes the longest step that the pairs
+    which may touch in it allow, each pair's by its own likely ω (contact.pair_omega;
+    solver/step_levels.py); a pair that met a contact stiffer than its step allows by more than
+    RERUN_MARGIN is given the ω it met, and the run repeated likewise."""
     loaded, system, ground, grid = scene.loaded, scene.system, scene.ground, scene.grid
     t0 = time.perf_counter()
     ref = reference_point(system, scene.contact)  # far from the origin: computed about a local one
@@ -505,24 +518,33 @@ def execute(
 
     from .solver import simulate  # the integrator (numba, the kernels) loads here, not at import
 
-    def integrate(grid: TimeGrid) -> Any:
+    def integrate(grid: TimeGrid, pair_omega: np.ndarray | None) -> Any:
+        ratio = None
+        if pair_omega is not None:  # each pair's step over the contact step's, by their ω
+            with np.errstate(divide="ignore"):
+                ratio = np.maximum(1.0, grid.contact_step_omega / pair_omega)
         return back_to_global(simulate(
             local_system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
             contact=local_contact if scene.contact.n_pairs else None, substep=grid.substep,
-            yield_substep=grid.yield_substep, gauges=gauges,
+            yield_substep=grid.yield_substep, gauges=gauges, pair_step_ratio=ratio,
         ), ref)  # fmt: skip
 
-    response = integrate(grid)
+    pair_omega = scene.contact.pair_omega.copy() if scene.regrid is not None else None
+    response = integrate(grid, pair_omega)
     wall_time, compile_time = response.wall_time, response.compile_time
-    seen = observed_contact_omega(scene.contact, response.events)
+    met = observed_pair_omega(scene.contact, response.events)
+    seen = float(met.max(initial=0.0))
     reruns = 0
-    while scene.regrid is not None and reruns <= MAX_RERUNS and seen > RERUN_MARGIN * grid.contact_step_omega:
+    while scene.regrid is not None and reruns <= MAX_RERUNS and stiffer_than_stepped(met, grid, response).any():
         reruns += 1
-        grid = scene.regrid(scene.contact.omega_max if reruns > MAX_RERUNS else min(seen, scene.contact.omega_max))
-        response = integrate(grid)
+        if seen > RERUN_MARGIN * grid.contact_step_omega or reruns > MAX_RERUNS:
+            grid = scene.regrid(scene.contact.omega_max if reruns > MAX_RERUNS else min(seen, scene.contact.omega_max))
+        pair_omega = None if reruns > MAX_RERUNS else np.maximum(pair_omega, met)
+        response = integrate(grid, pair_omega)
         wall_time += response.wall_time
         compile_time += response.compile_time
-        seen = max(seen, observed_contact_omega(scene.contact, response.events))
+        met = np.maximum(met, observed_pair_omega(scene.contact, response.events))
+        seen = float(met.max(initial=0.0))
     diagnostics = {
         "integrator": grid.integrator,
         "dt": grid.dt,
@@ -535,6 +557,7 @@ def execute(
         "sleeps": response.sleeps,
         "wakes": response.wakes,
         "switches": response.switches,
+        "step_changes": response.step_changes,
         "dt_auto": loaded.model.analysis.dt == "auto",
         "stability_limit": grid.stability_limit,
         "output_interval": grid.output_interval,

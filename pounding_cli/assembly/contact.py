@@ -114,6 +114,7 @@ class ContactArrays:
     omega_max: float  # rad/s, upper bound of the fastest contact vibration (0 without pairs)
     pair_mobility: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_pairs,) Σ(1/m + r²/J) of the two bodies, 1/kg
     omega_step: float = 0.0  # rad/s, the likely fastest contact vibration: what Δt = "auto" follows
+    pair_omega: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_pairs,) each pair's likely ω, rad/s
     pair_fields: list[tuple[str, str]] = field(default_factory=list)  # the model fields that set each pair's (k_N, k_T)
     cause_max: tuple[int, int] = (-1, 0)  # (pair, 0: k_N·line, 1: k_T) that sets omega_max
     cause_step: tuple[int, int] = (-1, 0)  # (pair, term) that sets omega_step
@@ -254,10 +255,11 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays],
     likely = np.array([likely_contact_line(polys[i], polys[j]) for i, j, _ in candidates])
     omega_max, cause_max = fastest_cause(kn, kt, longest, mobility)
     omega_likely, cause_step = fastest_cause(kn, kt, np.minimum(likely, longest), mobility)
+    each = pair_omegas(kn, kt, np.minimum(likely, longest), mobility)
     if not omega_likely >= STEP_BOUND * omega_max:  # the likely contacts are far softer (or not finite)
         omega_likely, cause_step = STEP_BOUND * omega_max, cause_max
     return ContactArrays(**{**arrays.__dict__, "omega_max": omega_max, "pair_mobility": mobility,
-                            "omega_step": omega_likely, "pair_fields": fields, "cause_max": cause_max,
+                            "omega_step": omega_likely, "pair_omega": each, "pair_fields": fields, "cause_max": cause_max,
                             "cause_step": cause_step, "crossings": crossings, "storeys": storeys,
                             "storey_below": np.array([first_floor[b.crossing.struck] + b.below if b.below >= 0 else -1
                                                       for b in storeys], dtype=np.int64).reshape(-1),
@@ -313,7 +315,7 @@ def _obstacle_root(model, o: int) -> str:
 
 
 def fastest_cause(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np.ndarray) -> tuple[float, tuple[int, int]]:
-    """(ω, (pair, term)): _fastest and the pair and term (0: k_N·line, 1: k_T) that give it;
+    """(ω, (pair, term)): the largest of pair_omegas and the pair and term (0: k_N·line, 1: k_T) that give it;
     (0, (−1, 0)) without pairs. A term that overflows counts as infinite."""
     if kn.size == 0:
         return 0.0, (-1, 0)
@@ -433,11 +435,12 @@ def pair_mobility(arrays: ContactArrays, mass: np.ndarray, inertia: np.ndarray) 
     return out
 
 
-def _fastest(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np.ndarray) -> float:
-    """max over pairs of ω = √(max(k_N·line, k_T)·mobility), rad/s (0 without pairs)."""
-    if kn.size == 0:
-        return 0.0
-    return float(np.max(np.sqrt(np.maximum(kn * line, kt) * mobility)))
+def pair_omegas(kn: np.ndarray, kt: np.ndarray, line: np.ndarray, mobility: np.ndarray) -> np.ndarray:
+    """ω = √(max(k_N·line, k_T)·mobility) of each pair, rad/s: the fastest vibration of its
+    contact with that contact line (m); a term that overflows counts as infinite."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        omega = np.sqrt(np.maximum(kn * line, kt) * mobility)
+    return np.where(np.isnan(omega), np.inf, omega)
 
 
 def likely_contact_line(poly_a: np.ndarray, poly_b: np.ndarray, depth: float = LIKELY_DEPTH) -> float:
@@ -448,7 +451,7 @@ def likely_contact_line(poly_a: np.ndarray, poly_b: np.ndarray, depth: float = L
     length (twice it, capped by the caller at the smaller diameter); a corner leading at 2°
     gives 2·depth/tan 2° = 57 mm at 1 mm. Twists during the run (milliradians) barely change
     an angle of degrees; where they could align two edges, the run measures what it met and
-    repeats itself at the step that needs (observed_contact_omega)."""
+    repeats itself at the step that needs (observed_pair_omega)."""
     def edges(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         d = np.roll(poly, -1, axis=0) - poly
         length = np.hypot(d[:, 0], d[:, 1])
@@ -467,12 +470,16 @@ def likely_contact_line(poly_a: np.ndarray, poly_b: np.ndarray, depth: float = L
     return float(2.0 * np.max(np.where(facing, line, 0.0), initial=0.0))
 
 
-def observed_contact_omega(contact: ContactArrays, events: np.ndarray) -> float:
-    """The fastest contact vibration a run met, rad/s: √(max(k_N·ℓ, k_T)·mobility) of each
-    logged impact, ℓ its longest contact line (solver column EV_PEAK_LENGTH)."""
+def observed_pair_omega(contact: ContactArrays, events: np.ndarray) -> np.ndarray:
+    """(n_pairs,) the fastest contact vibration a run met at each pair, rad/s (0 where it met
+    none): √(max(k_N·ℓ, k_T)·mobility) of each logged impact, ℓ its longest contact line
+    (solver column EV_PEAK_LENGTH)."""
     from ..solver.layout import EV_PAIR, EV_PEAK_LENGTH
 
+    seen = np.zeros(contact.n_pairs)
     if events.shape[0] == 0 or contact.n_pairs == 0:
-        return 0.0
+        return seen
     p = events[:, EV_PAIR].astype(np.int64)
-    return _fastest(contact.pair_kn[p], contact.pair_kt[p], events[:, EV_PEAK_LENGTH], contact.pair_mobility[p])
+    omega = pair_omegas(contact.pair_kn[p], contact.pair_kt[p], events[:, EV_PEAK_LENGTH], contact.pair_mobility[p])
+    np.maximum.at(seen, p, omega)
+    return seen

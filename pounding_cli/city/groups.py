@@ -108,7 +108,7 @@ def merge(results: list[RunResult], order: list[str], model_json: str, input_sha
     diagnostics = dict(first.diagnostics)
     for key in ("steps", "contact_steps", "cdm_steps", "exact_substeps", "slept_building_steps", "sleeps", "wakes",
                 "contact_pairs", "storey_pairs", "impacts", "impacts_logged", "n_dof", "wall_time_s", "compile_time_s",
-                "contact_reach_reruns"):  # fmt: skip
+                "contact_reach_reruns", "step_changes"):  # fmt: skip
         if all(key in r.diagnostics for r in results):
             diagnostics[key] = sum(r.diagnostics[key] for r in results)
     diagnostics["dt"] = min(r.diagnostics["dt"] for r in results)

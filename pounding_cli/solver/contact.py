@@ -966,6 +966,22 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
     20,902 CDM steps outside contact, a third of its CDM steps; now 9,937).
     Tighter than the boxes, which widen by |θ|·ρ for a turned outline: the
     hybrid's approach levels use it to step exactly up to a few CDM steps before an impact."""
+    return _finest_level_within(horizon, u, v, acc, contact, None, 1) == 1
+
+
+@kernel
+def contact_finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest):
+    """The finest (least) pair_level[p] of the pairs that contact_ruled_out_within cannot rule
+    out within `horizon` s (a pair in contact among them), `coarsest` where it rules out every
+    pair whose level is finer; 0 for a state gone bad (step_levels.py)."""
+    return _finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest)
+
+
+@kernel(**INTERNAL)
+def _finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest):
+    """The body of both: pair_level None counts every pair as level 0 (numba compiles the
+    branch away for a None argument), so that the first pair not ruled out ends the search,
+    as it always did."""
     bodies, broad = contact.bodies, contact.broad
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
     pair_a = contact.law.a
@@ -975,12 +991,19 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
     if sweeping:
         candidates = pairs_may_meet_within(horizon, u, v, acc, bodies, broad)
         if candidates < 0:
-            return False  # a state gone bad: the CDM takes over and stops the run
+            return 0  # a state gone bad: the CDM takes over at its finest and stops the run
     else:
         candidates = pair_a.size
     hits = broad.hits
+    level = coarsest
     for i in range(candidates):
         p = hits[i] if sweeping else i
+        if pair_level is None:
+            this = 0
+        else:
+            this = pair_level[p]
+        if this >= level:
+            continue  # it could not make the answer finer
         a = pair_a[p]
         b = pair_b[p]
         if not sweeping and not _widened_boxes_meet(a, b, u, v, acc, horizon, body_floor, body_radius, body_box):
@@ -988,8 +1011,10 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
         gap, dx, dy = _outline_gap(a, b, u, v, 0.0, bodies, poly_a, poly_b)
         closing = CLOSING_SAFETY * _pair_closing_along(a, b, dx, dy, v, acc, horizon, body_floor, body_radius)
         if not gap > closing:  # (NaN: possible)
-            return False
-    return True
+            level = this
+            if level == 0:
+                return 0
+    return level
 
 
 @kernel(**INTERNAL)

@@ -35,7 +35,8 @@ from .exact import enter_cdm, exact_point, leave_cdm, propagate_elastic
 from .hysteresis import member_states, plastic_energy_terms, update_members, yield_possible_within
 from .jit import kernel, phase
 from .sleep import catch_up, enter_awake, rebalance, still_needed, wake_all
-from .storey_bodies import possible_within, ruled_out_within
+from .step_levels import finest_step_changing, level_step
+from .storey_bodies import finest_level_within, possible_within, ruled_out_within
 from .tunables import DIVERGENCE_LIMIT, ENTER_HORIZON, LEAVE_HORIZON
 
 # what the next substep does: exact (substeps of h); CDM at the contact step; CDM at the
@@ -45,16 +46,18 @@ MODE_EXACT, MODE_CDM, MODE_CDM_YIELD, MODE_APPROACH = 0, 1, 2, 3
 # step (in CDM steps at the contact step) whose state failed the divergence check (−1 while
 # none has), the time propagated exactly, in CDM steps, the CDM steps that sleeping buildings
 # did not take (summed over them), how often a building fell asleep and how often one woke
-# inside a contact phase (sleep.py)
+# inside a contact phase (sleep.py), how often a contact phase changed its step (step_levels.py)
 CNT_EXACT, CNT_CDM, CNT_SWITCHES, CNT_FAILED_STEP, CNT_EXACT_SPAN, CNT_SLEPT, CNT_SLEEPS, CNT_WAKES = range(8)
-N_COUNTERS = 8
+CNT_STEP_CHANGES = 8
+N_COUNTERS = 9
 N_RATES = 7  # rows of exact_point's `rates`
 
 
 @kernel
-def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield_step, propagators, exact, motion,
-                   work, peaks, out, contact, yielding, progress, awake):  # fmt: skip
-    """Advance substeps k_start … k_stop − 1 (grid: records.Substeps); returns (status,
+def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, phase_steps, yield_step, propagators, exact,
+                   motion, work, peaks, out, contact, yielding, progress, awake):  # fmt: skip
+    """Advance substeps k_start … k_stop − 1 (grid: records.Substeps; phase_steps: the contact
+    phases' steps, records.ContactLevels, contact_step its level 0); returns (status,
     substeps done). A displacement that passes DIVERGENCE_LIMIT or is not finite stops the
     run at the substep (or the CDM step) that made it: STATUS_DIVERGED, with that step (in CDM
     steps at the contact step) in progress.counters[CNT_FAILED_STEP]. Where awake.enabled, the
@@ -95,11 +98,11 @@ def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield
                 skip = span == 2
                 continue
             # something may: approach by finer exact steps, or hand over to the CDM
-            _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_step, structure, exact, motion,
-                                  work, progress, awake)  # fmt: skip
+            _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, phase_steps, yield_step, structure,
+                                  exact, motion, work, progress, awake)  # fmt: skip
         if mode[0] == MODE_CDM_YIELD or levels == 0 or k == grid.end:
             # the CDM through the whole substep, then whether to hand back
-            step = contact_step if mode[0] == MODE_CDM else yield_step
+            step = level_step(phase_steps, phase_steps.current[0]) if mode[0] == MODE_CDM else yield_step
             status = _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, exact, motion, work,
                                   peaks, out, contact, yielding, progress, awake)  # fmt: skip
             if status != STATUS_OK:
@@ -108,8 +111,8 @@ def hybrid_advance(k_start, k_stop, grid, structure, ground, contact_step, yield
                 return STATUS_OK, k + 1
             continue
         # within the substep, finest step by finest step: exact approach steps, or the CDM
-        status, done = _within_substep(k, grid, contact_step, structure, ground, propagators, exact, motion, work,
-                                       peaks, out, contact, yielding, progress, awake)  # fmt: skip
+        status, done = _within_substep(k, grid, contact_step, phase_steps, structure, ground, propagators, exact, motion,
+                                       work, peaks, out, contact, yielding, progress, awake)  # fmt: skip
         if status != STATUS_OK:
             return status, done
     return STATUS_OK, k_stop
@@ -190,15 +193,16 @@ def _propagate_free(k, span, grid, contact_step, structure, ground, propagators,
 
 
 @phase
-def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, yield_step, structure, exact, motion, work,
-                          progress, awake):  # fmt: skip
+def _hand_over_from_exact(contact_soon, may_yield, levels, contact_step, phase_steps, yield_step, structure, exact,
+                          motion, work, progress, awake):  # fmt: skip
     """Something may happen within the horizon: approach a contact by finer exact steps (where
     there are levels and no member may yield), or hand the exact state at t_k to the CDM, at
-    the contact step or at the yielding step."""
+    the contact step (level 0 of phase_steps) or at the yielding step."""
     if contact_soon and levels > 0 and not may_yield:
         progress.mode[0] = MODE_APPROACH
         return
     progress.mode[0] = MODE_CDM if contact_soon else MODE_CDM_YIELD
+    phase_steps.current[0] = 0
     _enter_cdm(contact_step.dt if contact_soon else yield_step.dt, structure, exact, motion, work, awake)
     progress.counters[CNT_SWITCHES] += 1
 
@@ -251,17 +255,19 @@ def _cdm_substep(k, grid, step, contact_step, structure, ground, propagators, ex
 
 
 @phase
-def _within_substep(k, grid, step, structure, ground, propagators, exact, motion, work, peaks, out, contact, yielding,
-                    progress, awake):  # fmt: skip
+def _within_substep(k, grid, contact_step, phase_steps, structure, ground, propagators, exact, motion, work, peaks, out,
+                    contact, yielding, progress, awake):  # fmt: skip
     """Substep k finest step (h/2^L) by finest step: exact steps toward a contact (MODE_APPROACH),
     halving while a contact may begin within ENTER_HORIZON of their length and handing to the
-    CDM at the contact step at the finest level; or the CDM (MODE_CDM), which hands back at the
-    first finest step at which no contact is live or possible within LEAVE_HORIZON of it.
-    Returns (status, substeps done: k + 1 when a displacement diverged in an exact step, k
-    when the CDM failed)."""
+    CDM at the finest level, at the step of the pairs that may touch (phase_steps, step_levels.py);
+    or the CDM (MODE_CDM), which changes its step at a finest step's start when those pairs
+    change, and hands back at the first finest step at which no contact is live or possible
+    within LEAVE_HORIZON of it. Returns (status, substeps done: k + 1 when a displacement
+    diverged in an exact step, k when the CDM failed)."""
     levels = propagators.levels.phi.shape[0] - 1
     fine = 1 << levels  # finest exact steps per substep
-    q = step.per_substep // fine  # CDM steps per finest exact step
+    q0 = contact_step.per_substep // fine  # CDM steps at the contact step per finest exact step
+    coarsest = phase_steps.dt.size - 1
     h_fine = grid.h / fine
     t = k * grid.h
     has_members = yielding.plastic.shape[0] > 0
@@ -283,19 +289,24 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
                 if awake.enabled:  # who sleeps until the substep's end
                     counters[CNT_SLEEPS] += enter_awake(t_pos, max(LEAVE_HORIZON, ENTER_HORIZON * (fine - pos)) * h_fine,
                                                         structure, motion, work, exact, contact, awake)  # fmt: skip
-                _enter_cdm(step.dt, structure, exact, motion, work, awake)
+                current = 0
+                if coarsest > 0:
+                    current = finest_level_within(ENTER_HORIZON * size * h_fine, u, v_exact, a_rel, contact,
+                                                  phase_steps.pair_level, coarsest)  # fmt: skip
+                phase_steps.current[0] = current
+                _enter_cdm(phase_steps.dt[current], structure, exact, motion, work, awake)
                 counters[CNT_SWITCHES] += 1
                 continue
             propagate_elastic(t_pos, size * h_fine, lev.phi[level], lev.g0[level], lev.g1[level],
                               lev.mean_rows[level], lev.damping_form[level], structure, ground, exact, motion,
                               has_members)  # fmt: skip
             counters[CNT_EXACT] += 1
-            counters[CNT_EXACT_SPAN] += size * q
+            counters[CNT_EXACT_SPAN] += size * q0
             pos += size
             exact.gap[0] = size * h_fine
             for d in range(structure.mass.size):
                 if not abs(u[d]) <= DIVERGENCE_LIMIT:
-                    counters[CNT_FAILED_STEP] = k * step.per_substep + pos * q
+                    counters[CNT_FAILED_STEP] = k * contact_step.per_substep + pos * q0
                     return STATUS_DIVERGED, k + 1
             if pos == fine:
                 mode[0] = MODE_EXACT  # the state at t_{k+1} is the exact branch's
@@ -305,12 +316,32 @@ def _within_substep(k, grid, step, structure, ground, propagators, exact, motion
                 level -= 1  # try the coarser step: the next pass checks it
             continue
         # MODE_CDM: the next finest step's worth of CDM steps (of the awake buildings; the
-        # sleeping ones exactly, sleep.py)
-        n0 = k * step.per_substep + pos * q
-        status, failed_at = advance(n0, n0 + q, step, structure, ground, motion, work, peaks, out, contact, yielding,
-                                    awake)  # fmt: skip
+        # sleeping ones exactly, sleep.py), at the step of the pairs that may touch
+        current = phase_steps.current[0]
+        step = level_step(phase_steps, current)
+        want = current
+        if coarsest > 0:  # finer at once; coarser once the finer pairs are ruled out for longer
+            want = finest_level_within(ENTER_HORIZON * h_fine, u, v_half, a_rel, contact, phase_steps.pair_level,
+                                       coarsest)  # fmt: skip
+            if want > current:
+                want = finest_level_within(LEAVE_HORIZON * h_fine, u, v_half, a_rel, contact, phase_steps.pair_level,
+                                           coarsest)  # fmt: skip
+        if want == current:
+            q = step.per_substep // fine
+            n0 = (k * fine + pos) * q
+            status, failed_at = advance(n0, n0 + q, step, structure, ground, motion, work, peaks, out, contact,
+                                        yielding, awake)  # fmt: skip
+        else:
+            new = level_step(phase_steps, want)
+            q = new.per_substep // fine
+            status, failed_at = finest_step_changing((k * fine + pos) * (step.per_substep // fine), step, new,
+                                                     (k * fine + pos) * q, q, structure, ground, motion, work, peaks,
+                                                     out, contact, yielding, awake, phase_steps.saved)  # fmt: skip
+            step = new
+            phase_steps.current[0] = want
+            counters[CNT_STEP_CHANGES] += 1
         if status != STATUS_OK:
-            counters[CNT_FAILED_STEP] = failed_at
+            counters[CNT_FAILED_STEP] = failed_at * contact_step.per_substep // step.per_substep
             return status, k
         counters[CNT_CDM] += q
         pos += 1

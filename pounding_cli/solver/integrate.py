@@ -16,6 +16,7 @@ import numpy as np
 from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from .sleep import awake_record
+from .step_levels import contact_levels
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
 from .layout import EV_COLUMNS, NOW_COLUMNS
@@ -211,6 +212,8 @@ class Response:
     sleeps: int = 0  # hybrid: how often a building fell asleep through a contact phase
     wakes: int = 0  # hybrid: how often a sleeping building woke inside a contact phase
     switches: int = 0  # hybrid: hand-overs between the two
+    step_changes: int = 0  # hybrid: changes of a contact phase's step (step_levels.py)
+    pair_dt_ratio: np.ndarray | None = None  # (n_pairs,) the longest step each pair's contacts took, over dt
     failure_dof: int = -1  # a failed run: the DOF that went bad first (or moved fastest)
     failure_step: int = -1  # a failed run: the step m whose state (at t_m = m·dt) failed a check first
     member_history: np.ndarray | None = None  # (n_out, n_members, 4) local δ_x, δ_y m, f_x, f_y N
@@ -356,6 +359,7 @@ def simulate(
     sweep: bool | None = None,
     yield_substep: int = 0,
     gauges: ForceGauges | None = None,
+    pair_step_ratio: np.ndarray | None = None,
 ) -> Response:
     """Integrate over n_steps steps of dt; ground is (n, 2) m/s² every ground_dt.
 
@@ -366,7 +370,10 @@ def simulate(
     yield_substep = s_y (1 ≤ s_y ≤ s; 0: s): the hybrid's CDM takes s_y steps per substep
     where only yielding members need it (no contact possible).
     gauges: the storey shears and column forces whose running peaks to follow
-    (assembly.force_gauges; none if None).
+    (assembly.force_gauges; none if None). pair_step_ratio (n_pairs,): how many times longer
+    than dt each pair's own contact lets the step be (≥ 1): the hybrid's contact phases then
+    take the longest step that the pairs which may touch in them allow (step_levels.py);
+    None: every phase at dt. Plain CDM runs and runs with yielding members take dt throughout.
     The structure starts undeformed, at rest or with `initial_velocity` (n_dof,) relative to
     the ground, and out of contact. The contact broad phase sweeps and prunes (sweep=True) or
     tests every pair (False); None chooses the cheaper for the scene (broad_phase.sweep_pays).
@@ -424,6 +431,9 @@ def simulate(
         yield_step = CdmStep(h / sub_y, binv_y, stride // substep * sub_y, sub_y)
         propagators, exact = exact_branch(structure, structure_rec, v0, h, substep, stride, ground_dt, n_pairs > 0,
                                           n_members > 0, gauge_rec.storey.size)  # fmt: skip
+        fine = 1 << (propagators.levels.phi.shape[0] - 1)
+        phase_steps = contact_levels(contact_step, fine, sub_y, lambda step: step_matrices(structure, step)[0],
+                                     pair_step_ratio if n_members == 0 and fine > 1 else None, n_pairs, n_dof)  # fmt: skip
         progress_state = Progress(np.zeros(1, dtype=np.int64), counters)
         awake = awake_record(may_sleep(propagators, n_pairs, n_members, structure_rec, floor_start), floor_start,
                              structure.column_storey, gauge_rec.first, contact_rec.bodies.floor,
@@ -431,12 +441,13 @@ def simulate(
         unit, total = substep, n_steps // substep
 
         def advance(start: int, stop: int) -> tuple[int, int]:
-            return hybrid.hybrid_advance(start, stop, grid, structure_rec, ground_rec, contact_step, yield_step,
-                                         propagators, exact, motion, work, peaks, out, contact_rec, yielding,
-                                         progress_state, awake)  # fmt: skip
+            return hybrid.hybrid_advance(start, stop, grid, structure_rec, ground_rec, contact_step, phase_steps,
+                                         yield_step, propagators, exact, motion, work, peaks, out, contact_rec,
+                                         yielding, progress_state, awake)  # fmt: skip
     else:
         unit, total = 1, n_steps
         step = CdmStep(dt, binv, stride, 1)
+        phase_steps = None
         awake = awake_record(False, floor_start, structure.column_storey, gauge_rec.first, contact_rec.bodies.floor,
                              contact_rec.storeys.above)  # fmt: skip
 
@@ -523,6 +534,8 @@ def simulate(
         sleeps=int(counters[hybrid.CNT_SLEEPS]),
         wakes=int(counters[hybrid.CNT_WAKES]),
         switches=int(counters[hybrid.CNT_SWITCHES]),
+        step_changes=int(counters[hybrid.CNT_STEP_CHANGES]),
+        pair_dt_ratio=(phase_steps.dt[phase_steps.pair_level] / dt if phase_steps is not None else np.ones(n_pairs)),
         failure_dof=(_failure_dof(u[:n_dof], motion.v_half[:n_dof])
                      if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1),  # fmt: skip
         failure_step=failed_step if status in (cdm.STATUS_DIVERGED, cdm.STATUS_ENERGY) else -1,

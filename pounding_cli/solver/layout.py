@@ -16,7 +16,7 @@ NOW_COLUMNS = ("normal_force", "tangential_force", "area", "x", "y", "depth")
 # EV_FT_PEAK (F_T on B along t), EV_NX, EV_NY (n from A into B) are taken at the step of the
 # largest sample; EV_PEAK_LENGTH: the longest
 # contact line of the episode, m (its normal stiffness k_N·length: the automatic contact step
-# is checked against it, assembly/contact.py: observed_contact_omega)
+# is checked against it, assembly/contact.py: observed_pair_omega)
 EV_PAIR, EV_T_START, EV_T_END, EV_PEAK_FN, EV_IMPULSE, EV_PEAK_AREA, EV_PEAK_DEPTH, EV_X, EV_Y, EV_SLID, EV_T_PEAK = range(11)
 EV_FT_PEAK, EV_NX, EV_NY, EV_PEAK_LENGTH = range(11, 15)
 # EV_T_SLIP: where the contact first slipped (t_start if from the touch), EV_T_STICK: where its

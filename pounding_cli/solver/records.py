@@ -452,6 +452,27 @@ class Substeps(NamedTuple):
     """substeps per record interval"""
 
 
+class ContactLevels(NamedTuple):
+    """The contact steps of the hybrid's CDM phases, finest first (step_levels.py): level ℓ
+    takes per_substep[ℓ] steps of dt[ℓ] a substep, a whole number of them in each finest exact
+    step; level 0 is the contact step."""
+
+    dt: np.ndarray
+    """(n_levels,) the step, s"""
+    inverse: np.ndarray
+    """(n_levels, n_buildings, n_max, n_max) B⁻¹ = (M/Δt + C/2)⁻¹ per building at each step"""
+    per_output: np.ndarray
+    """(n_levels,) int64 steps per output sample"""
+    per_substep: np.ndarray
+    """(n_levels,) int64 steps per exact substep"""
+    pair_level: np.ndarray
+    """(n_pairs,) int64 the coarsest level whose step each pair's contact allows"""
+    current: np.ndarray
+    """(1,) int64 the level of the CDM phase under way"""
+    saved: np.ndarray
+    """(n_dof + 3,) work: u_n while the step changes (step_levels.change_step)"""
+
+
 class Progress(NamedTuple):
     """The hybrid's mode and counters (hybrid.MODE_*, hybrid.CNT_*)."""
 

@@ -17,7 +17,13 @@ Scenes without struck storeys call the kernel on the state vectors themselves, u
 
 from __future__ import annotations
 
-from .contact import contact_forces, contact_pairs_needed, contact_possible_within, contact_ruled_out_within
+from .contact import (
+    contact_finest_level_within,
+    contact_forces,
+    contact_pairs_needed,
+    contact_possible_within,
+    contact_ruled_out_within,
+)
 from .jit import phase
 
 
@@ -103,6 +109,16 @@ def ruled_out_within(horizon, u, v, acc, contact):
         return contact_ruled_out_within(horizon, u, v, acc, contact)
     _extend_three(u, v, acc, storeys)
     return contact_ruled_out_within(horizon, storeys.u, storeys.v, storeys.w, contact)
+
+
+@phase
+def finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest):
+    """contact_finest_level_within, with the struck storeys as virtual floors."""
+    storeys = contact.storeys
+    if storeys.shape.size == 0:
+        return contact_finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest)
+    _extend_three(u, v, acc, storeys)
+    return contact_finest_level_within(horizon, storeys.u, storeys.v, storeys.w, contact, pair_level, coarsest)
 
 
 @phase
