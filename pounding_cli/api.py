@@ -286,6 +286,7 @@ def describe_scene(scene: Scene) -> dict[str, Any]:
             }
         )
     contact = scene.contact
+    multiples = phase_step_multiples(scene)
     return {
         "file": str(loaded.source),
         "title": m.title,
@@ -307,6 +308,8 @@ def describe_scene(scene: Scene) -> dict[str, Any]:
                     "k_normal_N_per_m2": float(contact.pair_kn[i]),
                     "k_tangential_N_per_m": float(contact.pair_kt[i]),
                     **pair_damping_and_friction(contact, i),
+                    "omega_likely_rad_s": float(contact.pair_omega[i]),
+                    "phase_step_multiple": float(multiples[i]),
                 }
                 for i, p in enumerate(contact.pairs)
             ],
@@ -381,6 +384,24 @@ def describe_scene(scene: Scene) -> dict[str, Any]:
         },
         "warnings": [n.as_dict() for n in scene.notices],
     }
+
+
+def phase_step_multiples(scene: Scene) -> np.ndarray:
+    """(n_pairs,) how many contact steps long the CDM's step may be in a contact phase where
+    that pair is the stiffest that may touch (solver/step_levels.py): by the pair's own likely
+    ω, where the step is automatic, the integrator the hybrid and no member yields; else 1."""
+    from .solver.step_plan import approach_levels, phase_plan
+
+    grid, contact, system = scene.grid, scene.contact, scene.system
+    ones = np.ones(contact.n_pairs)
+    if scene.regrid is None or not grid.substep or system.members.top.size:
+        return ones
+    fine = 2 ** approach_levels(grid.substep, 3 * max(b.n_floors for b in system.buildings), len(system.buildings))
+    sub_y = grid.yield_substep if 0 < grid.yield_substep < grid.substep else grid.substep
+    with np.errstate(divide="ignore"):
+        ratio = np.maximum(1.0, grid.contact_step_omega / contact.pair_omega)
+    counts, level = phase_plan(grid.substep, sub_y, fine, ratio if fine > 1 else None, contact.n_pairs)
+    return counts[0] / np.asarray(counts, dtype=float)[level]
 
 
 def _isolation(building: Any, bld: Any) -> dict[str, Any] | None:

@@ -1127,6 +1127,12 @@ def _print_candidates(c: dict[str, Any]) -> None:
                   "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
+    multiples = [p.get("phase_step_multiple", 1.0) for p in c["pairs"]]
+    if max(multiples, default=1.0) > 1:
+        counts = {m: multiples.count(m) for m in sorted(set(multiples))}
+        longer = ", ".join(f"× {m:g} ({n} pair{'s' * (n > 1)})" for m, n in counts.items() if m > 1)
+        out.print(f"  contact phases step by the pairs that may touch in them, each by its own likely ω: Δt where "
+                  f"one of {counts.get(1.0, 0)} may, else up to Δt {longer} (docs/theory.md §10)", markup=False)
     if c.get("pruned"):
         why = "contact.reach" if c["reach_source"] == "contact.reach" else "the bound from the modes and the record's spectral displacement, docs/theory.md"
         out.print(f"  reach {c['reach_m']:.3g} m ({why}): buildings farther apart at rest have no candidates; "

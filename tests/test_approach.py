@@ -20,7 +20,7 @@ from shapely.geometry import Polygon
 
 from pounding_cli import api as pound
 from pounding_cli.model import read_document, validate_model
-from pounding_cli.solver import integrate
+from pounding_cli.solver import step_plan
 from pounding_cli.solver.contact import contact_possible_within, contact_ruled_out_within
 
 from conftest import INPUTS
@@ -97,7 +97,7 @@ def test_the_approach_levels_change_nothing_but_the_cost(path, duration, saving,
         doc["analysis"]["duration"] = duration
     model = validate_model(doc, path)
     with_levels = pound.run_model(model)
-    monkeypatch.setattr(integrate, "APPROACH_MIN_STEPS", 10**9)  # no level: the CDM for whole substeps
+    monkeypatch.setattr(step_plan, "APPROACH_MIN_STEPS", 10**9)  # no level: the CDM for whole substeps
     without = pound.run_model(model)
     assert with_levels.contact.impact_count == without.contact.impact_count > 0
     starts = with_levels.contact.events["t_start"], without.contact.events["t_start"]

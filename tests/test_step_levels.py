@@ -107,3 +107,28 @@ def test_a_pair_that_meets_a_stiffer_contact_than_its_step_repeats_the_run(monke
     for name, building in result.buildings.items():
         np.testing.assert_array_equal(building.interstorey_deflection, again.buildings[name].interstorey_deflection)
     assert result.contact.peak_force == again.contact.peak_force
+
+
+def test_validate_shows_the_steps_the_run_takes(monkeypatch):
+    """`pound validate --json` gives each pair's phase step multiple without loading the
+    time loop (solver/step_plan.py); the run's own levels (the solver's record, from the
+    propagators it built) are the same, pair by pair; and the text says it in one line."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from pounding_cli.cli import app
+    from pounding_cli.solver import integrate
+
+    runner = CliRunner()
+    info = json.loads(runner.invoke(app, ["validate", str(MISMATCHED), "--json"]).stdout)
+    multiples = [p["phase_step_multiple"] for p in info["contact"]["pairs"]]
+    taken = []
+    simulate = integrate.simulate
+    monkeypatch.setattr(integrate, "simulate", lambda *a, **k: taken.append(simulate(*a, **k)) or taken[-1])
+    execute(prepare(MISMATCHED))
+    np.testing.assert_allclose(multiples, taken[0].pair_dt_ratio, rtol=1e-12)
+    assert max(multiples) > 1 and min(multiples) == 1
+    text = runner.invoke(app, ["validate", str(MISMATCHED)], env={"COLUMNS": "200"}).stdout
+    assert "contact phases step by the pairs that may touch in them" in text
+    assert "contact phases" not in runner.invoke(app, ["validate", str(PAPER)], env={"COLUMNS": "200"}).stdout

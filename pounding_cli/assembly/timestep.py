@@ -16,7 +16,7 @@ HYBRID_SAMPLING (YIELD_SAMPLING with yielding members); around contacts it runs 
 Δt = h/sub. Where only yielding members need the CDM (no contact possible), the contact does
 not limit the step: the CDM runs at h/sub_y, the same fraction of the structure's own limit
 (sub_y ≤ sub). Toward a contact the hybrid halves its exact step down to h/2^L (its approach
-levels, solver/integrate.py: approach_levels): with `dt = "auto"` and contact possible, sub
+levels, solver/step_plan.py: approach_levels): with `dt = "auto"` and contact possible, sub
 is rounded up to a multiple of 2^L (L the largest with sub/2^L ≥ APPROACH_MIN_STEPS), a step
 at most 1/8 finer. Everything is expressed in CDM steps at the contact step: n_steps and
 stride are multiples of `substep` (= sub).
@@ -206,7 +206,7 @@ def time_grid(
     if hybrid and record_dt is not None:
         h, stride_h = _substeps(record_dt, out, _ratio(sampling_scale * hybrid_sampling(yielding), rate))
         sub = whole(_ratio(h, target) - 1e-9)
-        if omega_contact > 0 and analysis.dt == "auto":  # room for the approach levels (solver.integrate.approach_levels)
+        if omega_contact > 0 and analysis.dt == "auto":  # room for the approach levels (solver.step_plan.approach_levels)
             power = 2 ** max(0, int(math.log2(sub / APPROACH_MIN_STEPS)))
             sub = power * math.ceil(sub / power)
         dt = h / sub

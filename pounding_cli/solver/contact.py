@@ -954,7 +954,7 @@ def share_since_crossing(now, before):
     return min(1.0, now / (now - before))
 
 
-@kernel
+@kernel(inline="always")
 def contact_ruled_out_within(horizon, u, v, acc, contact):
     """True when no pair can touch within `horizon` s: for every pair whose widened bounding
     boxes may meet (as contact_possible_within finds them), the gap between the displaced
@@ -969,7 +969,7 @@ def contact_ruled_out_within(horizon, u, v, acc, contact):
     return _finest_level_within(horizon, u, v, acc, contact, None, 1) == 1
 
 
-@kernel
+@kernel(inline="always")
 def contact_finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest):
     """The finest (least) pair_level[p] of the pairs that contact_ruled_out_within cannot rule
     out within `horizon` s (a pair in contact among them), `coarsest` where it rules out every
@@ -979,9 +979,10 @@ def contact_finest_level_within(horizon, u, v, acc, contact, pair_level, coarses
 
 @kernel(**INTERNAL)
 def _finest_level_within(horizon, u, v, acc, contact, pair_level, coarsest):
-    """The body of both: pair_level None counts every pair as level 0 (numba compiles the
-    branch away for a None argument), so that the first pair not ruled out ends the search,
-    as it always did."""
+    """The body of both (which numba inlines, so that a check costs the one call it always
+    did: a call passes the contact record's arrays one by one): pair_level None counts every
+    pair as level 0 (numba compiles the branch away for a None argument), so that the first
+    pair not ruled out ends the search, as it always did."""
     bodies, broad = contact.bodies, contact.broad
     body_floor, body_radius, body_box = bodies.floor, bodies.radius, bodies.box
     pair_a = contact.law.a

@@ -17,6 +17,7 @@ from ..interrupts import stop_if_requested
 from . import cdm, hybrid
 from .sleep import awake_record
 from .step_levels import contact_levels
+from .step_plan import approach_levels
 from . import contact as contact_kernel
 from .broad_phase import sweep_arrays
 from .layout import EV_COLUMNS, NOW_COLUMNS
@@ -46,8 +47,6 @@ from .records import (
     Yielding,
 )
 from .tunables import (
-    APPROACH_MEMORY,
-    APPROACH_MIN_STEPS,
     CREST_MARGIN,
     CREST_SPAN,
     DIVERGENCE_LIMIT,
@@ -656,19 +655,6 @@ def exact_branch(
     return Propagators(by_level, double, kinv), Exact(
         np.zeros(n_dof + 3), v0.copy(), np.zeros(n_dof + 3), np.zeros(n_dof + 3), np.full(1, h), np.zeros(n2 + 4),
         np.zeros(n2), np.zeros((KEPT_ROWS, n_dof + 3)), between, first, ground_rate_response(structure), crest)
-
-
-def approach_levels(substep: int, n_max: int, n_buildings: int) -> int:
-    """How many times the hybrid may halve its exact step toward a contact: the largest L
-    with substep a multiple of 2^L, substep/2^L ≥ APPROACH_MIN_STEPS CDM steps, and the
-    L + 1 sets of propagators (n_buildings × ((2·n_max)² + (2·n_max + 4)²) each: Φ and the
-    damping form) within APPROACH_MEMORY."""
-    per_level = 8 * n_buildings * ((2 * n_max) ** 2 + (2 * n_max + 4) ** 2)
-    levels = 0
-    while (substep % 2 ** (levels + 1) == 0 and substep // 2 ** (levels + 1) >= APPROACH_MIN_STEPS
-           and (levels + 2) * per_level <= APPROACH_MEMORY):  # fmt: skip
-        levels += 1
-    return levels
 
 
 def inverse_blocks(blocks: list[np.ndarray], counts: np.ndarray) -> np.ndarray:

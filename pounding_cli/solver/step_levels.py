@@ -26,36 +26,23 @@ one-sided estimate of that step's crest (contact.crest assumes equal steps).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .cdm import STATUS_OK, advance, damping_force_range, storey_matvec_range
 from .jit import INTERNAL, kernel, phase
 from .records import CdmStep, ContactLevels
+from .step_plan import phase_plan
 
 
 def contact_levels(contact_step: CdmStep, fine: int, yield_per_substep: int, inverse_of, pair_step_ratio,
                    n_pairs: int, n_dof: int) -> ContactLevels:  # fmt: skip
-    """The levels of a hybrid run whose contact step is `contact_step` (level 0), with `fine`
-    finest exact steps a substep and the yielding step's `yield_per_substep` steps a substep.
-    inverse_of(dt) gives the B⁻¹ blocks of a step; pair_step_ratio (n_pairs,) how many times
-    longer than the contact step each pair's own contact allows the step to be (≥ 1; None:
-    every pair at level 0, one level)."""
-    q0 = contact_step.per_substep // fine
-    q_min = max(1, math.ceil(yield_per_substep / fine))
-    counts = [q0]
-    while pair_step_ratio is not None and n_pairs and math.ceil(q0 / 2 ** len(counts)) >= q_min:
-        q = math.ceil(q0 / 2 ** len(counts))
-        if q == counts[-1]:
-            break
-        counts.append(q)
-    level = np.zeros(n_pairs, dtype=np.int64)
-    if len(counts) > 1:
-        ratio = np.asarray(pair_step_ratio, dtype=float)
-        for ell, q in enumerate(counts):
-            level[q0 / q <= ratio * (1 + 1e-12)] = ell
-        counts = counts[: int(level.max(initial=0)) + 1]
+    """The levels (step_plan.phase_plan) of a hybrid run whose contact step is `contact_step`
+    (level 0), with `fine` finest exact steps a substep and the yielding step's
+    `yield_per_substep` steps a substep, as the time loop's record; inverse_of(dt) gives the
+    B⁻¹ blocks of a step; pair_step_ratio (n_pairs,) how many times longer than the contact
+    step each pair's own contact allows the step to be (≥ 1; None: one level)."""
+    counts, level = phase_plan(contact_step.per_substep, yield_per_substep, fine, pair_step_ratio, n_pairs)
+    q0 = counts[0]
     per_output = contact_step.per_output // contact_step.per_substep
     dts = [contact_step.dt * q0 / q for q in counts]
     inverse = np.stack([contact_step.inverse] + [inverse_of(dt) for dt in dts[1:]])

@@ -53,7 +53,7 @@ scenes are slower and less accurate at 0.4 (docs/bench.md)."""
 
 APPROACH_MIN_STEPS = 8
 """The hybrid's finest exact step toward a contact spans at least this many CDM steps (the
-approach levels, integrate.approach_levels). Chosen by hand with the approach levels
+approach levels, step_plan.approach_levels). Chosen by hand with the approach levels
 (028e389), not swept: a shorter finest step brings the hand-over closer to the impact (fewer
 CDM steps before it) at the cost of more levels of propagators; `dt = "auto"` rounds the CDM
 steps per substep up to a multiple of 2^L for it (at most 1/8 finer)."""
