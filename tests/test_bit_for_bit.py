@@ -26,6 +26,9 @@ lose their candidates (contact.reach), so its pairs, contact histories, the pair
 log and diagnostics/contact_pairs change and two reach diagnostics are added; every building,
 energy and time dataset is unchanged. Merged, row_of_5's log differs from issue 30's branch in
 t_start and t_end alone.
+Issue 23's step per contact phase added diagnostics/step_changes (0 in every pinned scene: their
+pairs' own ω lie within 2× of each other, so every phase takes the contact step) to the pins, with
+every dataset pinned before unchanged.
 Issue 28 re-pinned the five scenes whose results moved (all but paper_inelastic and the linear
 scene under the plain CDM): the friction spring's slip is now taken at the step's midpoint (_slip_over_step),
 which removed a first-order error in turning contacts. Against 1e68ac1's results the peaks
