@@ -1127,6 +1127,11 @@ def _print_candidates(c: dict[str, Any]) -> None:
                   "between the closest points", markup=False)  # fmt: skip
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
+    if c["storey_crossings"]:
+        out.print("  slab–storey: the struck columns bend under the blow (their flexibility is in series with the "
+                  "contact) but are massless in this version; with their own mass an impact splits into shorter "
+                  "ones and its peak force and the columns' shear rise (docs/theory.md §10, \"What it leaves out\")",
+                  markup=False)  # fmt: skip
     multiples = [p.get("phase_step_multiple", 1.0) for p in c["pairs"]]
     if max(multiples, default=1.0) > 1:
         counts = {m: multiples.count(m) for m in sorted(set(multiples))}
