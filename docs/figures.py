@@ -315,6 +315,16 @@ def storey_fe_table() -> str:
         return table(Path(folder))
 
 
+@registered("column-mass-study")
+def column_mass_study() -> str:
+    """The struck column's own mass: the reduced models' largest errors against the FE frame
+    with distributed column mass (tests/fe_study.py, T3's summary), run here."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from fe_study import worst_errors
+
+    return worst_errors()
+
+
 @registered("sweep-timing")
 def sweep_timing(jobs: str, column: str) -> str:
     """A cell of docs/bench/sweep.md (docs/sweep_timing.py): the row of `jobs` local jobs."""
