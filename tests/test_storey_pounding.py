@@ -268,3 +268,4 @@ def test_the_report_flags_struck_columns_past_their_capacity(tmp_path) -> None:
             assert c["ratio"] is None and c["capacity_N"] is None
     text = CliRunner().invoke(app, ["report", str(tmp_path / "m.h5")]).stdout
     assert "Columns struck between floors" in text and "≥ 1 !" in text
+    assert "massless in this version" in text  # the demands' limit is said where they are read

@@ -73,6 +73,7 @@ def demand_table(doc: dict[str, Any]) -> list[TableSpec]:
     if not rows:
         return []
     return [TableSpec("Columns struck between floors (slab–storey impacts): the largest over the run; demand/capacity "
-                      "against shear_capacity (x / y), flagged at 1 or more",
+                      "against shear_capacity (x / y), flagged at 1 or more. The columns are massless in this version: "
+                      "with their own mass an impact's peak shear can be up to twice these (docs/validation.md)",
                       ["building", "column", "storey", "ξ", "impacts", "impact V (kN)", "impact M (kN·m)",
                        "whole V (kN)", "capacity (kN)", "demand/capacity"], rows, right={2, 3, 4, 5, 6, 7})]  # fmt: skip
