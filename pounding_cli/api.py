@@ -398,10 +398,16 @@ def phase_step_multiples(scene: Scene) -> np.ndarray:
         return ones
     fine = 2 ** approach_levels(grid.substep, 3 * max(b.n_floors for b in system.buildings), len(system.buildings))
     sub_y = grid.yield_substep if 0 < grid.yield_substep < grid.substep else grid.substep
-    with np.errstate(divide="ignore"):
-        ratio = np.maximum(1.0, grid.contact_step_omega / contact.pair_omega)
-    counts, level = phase_plan(grid.substep, sub_y, fine, ratio if fine > 1 else None, contact.n_pairs)
+    ratio = pair_step_ratios(grid, contact.pair_omega) if fine > 1 else None
+    counts, level = phase_plan(grid.substep, sub_y, fine, ratio, contact.n_pairs)
     return counts[0] / np.asarray(counts, dtype=float)[level]
+
+
+def pair_step_ratios(grid: TimeGrid, pair_omega: np.ndarray) -> np.ndarray:
+    """(n_pairs,) how many times longer than the grid's contact step each pair's own likely
+    contact (pair_omega, rad/s) lets the step be: max(1, ω_step/ω_p)."""
+    with np.errstate(divide="ignore"):
+        return np.maximum(1.0, grid.contact_step_omega / pair_omega)
 
 
 def _isolation(building: Any, bld: Any) -> dict[str, Any] | None:
@@ -540,10 +546,7 @@ def execute(
     from .solver import simulate  # the integrator (numba, the kernels) loads here, not at import
 
     def integrate(grid: TimeGrid, pair_omega: np.ndarray | None) -> Any:
-        ratio = None
-        if pair_omega is not None:  # each pair's step over the contact step's, by their ω
-            with np.errstate(divide="ignore"):
-                ratio = np.maximum(1.0, grid.contact_step_omega / pair_omega)
+        ratio = pair_step_ratios(grid, pair_omega) if pair_omega is not None else None
         return back_to_global(simulate(
             local_system, ground.acceleration, ground.dt, grid.dt, grid.stride, grid.n_steps, progress,
             contact=local_contact if scene.contact.n_pairs else None, substep=grid.substep,
