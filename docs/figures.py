@@ -315,6 +315,19 @@ def storey_fe_table() -> str:
         return table(Path(folder))
 
 
+@registered("local-modes-fe-table")
+def local_modes_fe_table() -> str:
+    """pound's struck columns with their own mass against the finite-element frame with
+    distributed column mass (tests/test_local_modes_fe.py), as a markdown table: run both, here."""
+    import tempfile
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_local_modes_fe import table
+
+    with tempfile.TemporaryDirectory() as folder:
+        return table(Path(folder))
+
+
 @registered("column-mass-study")
 def column_mass_study() -> str:
     """The struck column's own mass: the reduced models' largest errors against the FE frame

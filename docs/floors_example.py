@@ -209,8 +209,9 @@ shear (with the storey's drift) and the largest demand/capacity ratio against it
 
 ![The most loaded struck column's shear against its capacity](images/floors-shear.png)
 
-Columns are massless in this version: their local modes (the next slice of issue 23) would split
-each impact into shorter ones and raise the instantaneous shear further. A ratio above 1 means the
+The example's columns have no `density`, so they are massless here: with one (`materials.<name>.density`,
+kg/m³) their local modes split each impact into shorter ones and raise the peak force and the
+columns' shear (theory §10, "The struck columns' own mass"). A ratio above 1 means the
 column fails in shear before the impact's force is reached, and what follows (local failure) is
 beyond a shear-type model: the figures are demands, not the response.
 """

@@ -32,6 +32,7 @@ from .assembly import (
 )
 from .assembly.contact import observed_pair_omega
 from .assembly.levels import scene_unmet_neighbours
+from .assembly.local_modes import with_local_modes
 from .assembly.origin import back_to_global, check_resolution, local_origin, reference_point, scene_points
 from .assembly.timestep import governing_rule, stability_limit
 from .assembly.damping import modal_damping_ratios
@@ -84,6 +85,7 @@ def prepare(model: str | Path | LoadedModel) -> Scene:
         limits.check_structure(system, loaded.source)
         ground = ground_motion(loaded)
         contact = contact_within_reach(loaded, system, ground)
+        system, contact = with_local_modes(system, contact, loaded)
         check_resolution(scene_points(loaded.model, system, contact), str(loaded.source))
         grid, regrid = scene_grid(loaded.model.analysis, str(loaded.source), system, contact, ground)
     scene = Scene(loaded, system, contact, ground, grid, regrid)
@@ -333,8 +335,18 @@ def describe_scene(scene: Scene) -> dict[str, Any]:
                                        for i in body.columns],
                     "contact_line_m": body.line,
                     "local_compliance_m_per_N": body.compliance_normal,
+                    "local_modes": body.modes,
+                    "struck_columns_mass_kg": body.bundle_mass,
                 }
                 for c, body in zip(contact.crossings, contact.storeys)
+            ],
+            "massless_storeys": sum(1 for body in contact.storeys if not body.modes),
+            "local_modes": [
+                {"building": system.buildings[lm.building].name, "storey": lm.storey, "mode": lm.number,
+                 "columns": [system.buildings[lm.building].column_lines[system.buildings[lm.building].columns[i].line].name
+                             for i in lm.columns],
+                 "mass_kg": lm.mass, "omega_rad_s": lm.omega, "weights": list(lm.weights)}
+                for lm in system.local_modes
             ],
             "unmet_neighbours": [
                 {"building_a": system.buildings[i].name, "building_b": system.buildings[j].name, "distance_m": d}

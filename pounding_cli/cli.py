@@ -1128,10 +1128,18 @@ def _print_candidates(c: dict[str, Any]) -> None:
         if len(rows) > CANDIDATE_ROWS:
             out.print(f"  … and {len(rows) - CANDIDATE_ROWS} more (pound validate --json lists them all)", markup=False)
     if c["storey_crossings"]:
-        out.print("  slab–storey: the struck columns bend under the blow (their flexibility is in series with the "
-                  "contact) but are massless in this version; with their own mass an impact splits into shorter "
-                  "ones and its peak force and the columns' shear rise (docs/theory.md §10, \"What it leaves out\")",
-                  markup=False)  # fmt: skip
+        modes = c.get("local_modes", [])
+        if modes:
+            omegas = [m["omega_rad_s"] for m in modes]
+            out.print(f"  slab–storey: the struck columns vibrate with their own mass: {len(modes)} local modes "
+                      f"(pseudo-floors), ω {min(omegas):.4g} to {max(omegas):.4g} rad/s; their static flexibility "
+                      "beyond them is in series with the contact (docs/theory.md §10, \"The struck columns' own mass\")",
+                      markup=False)  # fmt: skip
+        if c.get("massless_storeys", c["storey_crossings"]):
+            out.print("  slab–storey: struck columns without a material density are massless (their flexibility is "
+                      "in series with the contact); with their own mass an impact splits into shorter ones and its "
+                      "peak force and the columns' shear rise: give their material a density (kg/m³) "
+                      "(docs/theory.md §10, \"The struck columns' own mass\")", markup=False)  # fmt: skip
     multiples = [p.get("phase_step_multiple", 1.0) for p in c["pairs"]]
     if max(multiples, default=1.0) > 1:
         counts = {m: multiples.count(m) for m in sorted(set(multiples))}

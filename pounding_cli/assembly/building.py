@@ -44,6 +44,7 @@ class ColumnInstance:
     height: float = 0.0  # m, the storey's height (fixed-fixed end moments M = V·h/2)
     member: int = -1  # its index in the building's yielding members, −1 if it stays linear
     shear_capacity: tuple[float, float] | None = None  # N, along the column's local x and y (the model's)
+    mass: float = 0.0  # ρ·A·h, kg (0: its material has no density; the floors' masses hold it)
 
     @property
     def plan_stiffness(self) -> np.ndarray:
@@ -206,8 +207,9 @@ def assemble_building(
             arms_b.append(arm_b)
             arms_t.append(p - centre[s])
             member = len(members) if col.hysteresis is not None else -1
+            density = materials[col.material].density or 0.0
             instances.append(ColumnInstance(lines[col.name], s, arm_b, arms_t[-1], (kx, ky), angle, floor.height, member,
-                                            col.shear_capacity))  # fmt: skip
+                                            col.shear_capacity, density * col.section[0] * col.section[1] * floor.height))  # fmt: skip
             if col.hysteresis is not None:
                 law = laws[col.hysteresis]
                 fy = law.yield_force or (kx * law.yield_deflection[0], ky * law.yield_deflection[1])

@@ -19,6 +19,7 @@ from ..errors import InputError
 from ..model import Contact, LoadedModel, Material
 from .building import BuildingArrays
 from .levels import LEVEL_TOLERANCE, StoreyCrossing, facing_crossings, moat_pits, storey_crossings
+from .local_modes import NO_BODY_MODES, BodyModes, modal_mobility
 from .storey_contact import StoreyBody, series_stiffness, storey_body
 from ..solver.tunables import LIKELY_DEPTH, STEP_BOUND
 from .polygon import polygon_centroid
@@ -124,6 +125,7 @@ class ContactArrays:
     storey_above: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # (n_s,) global floor above
     storey_shape: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (n_s,) s(ξ)
     storey_arm: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))  # (n_s, 2) G_above − G_below at rest, m
+    body_modes: BodyModes = NO_BODY_MODES  # the struck columns' local modes that move each storey body (local_modes.py)
     reach: float = float("inf")  # m: buildings farther apart at rest have no candidates (city/reach.py)
     reach_source: str = ""  # "contact.reach", "bound" or why nothing is pruned
     near: frozenset[tuple[int, int]] | None = None  # the building pairs within reach when some were pruned, else None
@@ -166,7 +168,7 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays],
         inertias.append(np.inf)
     # the storeys that slabs strike between a neighbour's floors: bodies after the obstacles
     crossings = storey_crossings(buildings, moat_pits(model), near) if contact.enabled else []
-    storeys = [storey_body(buildings, c) for c in crossings]
+    storeys = [storey_body(buildings, c, contact.column_modes) for c in crossings]
     first_floor = np.concatenate([[0], np.cumsum([b.n_floors for b in buildings])]).astype(np.int64)
     storey_bodies = len(polys)
     for k, body in enumerate(storeys):
@@ -284,6 +286,7 @@ def _storey_inertia(buildings: list[BuildingArrays], first_floor: np.ndarray, bo
         stretch = (1.0 + float(np.hypot(*body.arm)) / radius) ** 2 if radius > 0 else 1.0
         inv_m += (1.0 - s) ** 2 / m0
         inv_j += (1.0 - s) ** 2 * stretch / j0
+    inv_m += modal_mobility(body.crossing.xi, body.bundle_mass, body.modes)  # the columns' local modes
     return 1.0 / inv_m, 1.0 / inv_j
 
 

@@ -75,6 +75,8 @@ class StoreyBody:
     columns: tuple[int, ...]  # indices into the struck building's `columns` that take the blow
     compliance_normal: float  # C_n, m/N, along the normal (0: no column found)
     compliance_tangential: float  # C_t, m/N, along the façade
+    modes: int = 0  # local modes of the struck columns (local_modes.py); their flexibility leaves C_n, C_t
+    bundle_mass: float = 0.0  # the struck columns' mass Σρ_iA_ih, kg (0: massless, no modes)
 
 
 def facing_edge(slab: np.ndarray, outline: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -132,9 +134,13 @@ def struck_columns(struck: BuildingArrays, storey: int, p: np.ndarray, q: np.nda
     return tuple(sorted(min(side)[1] for side in (left, right) if side))
 
 
-def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing) -> StoreyBody:
+def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, column_modes: int = 0) -> StoreyBody:
     """The storey body of a slab–storey crossing: its kinematic weights, the struck façade and
-    columns, and their point-load compliances at ξ."""
+    columns, and their point-load compliances at ξ; where the columns have mass and
+    column_modes > 0, their first local modes move the outline (local_modes.py) and only the
+    flexibility those leave out stays in the compliances."""
+    from .local_modes import residual_fraction
+
     slab = buildings[crossing.building].slabs[crossing.floor]
     struck = buildings[crossing.struck]
     above = crossing.storey - 1
@@ -149,8 +155,11 @@ def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing) -> St
     k_n = sum(float(normal @ struck.columns[i].plan_stiffness @ normal) for i in columns) / factor
     k_t = sum(float(e @ struck.columns[i].plan_stiffness @ e) for i in columns) / factor
     arm = struck.mass_centre[above] - struck.mass_centre[below] if below >= 0 else np.zeros(2)
+    mass = float(sum(struck.columns[i].mass for i in columns))
+    modes = column_modes if mass > 0 else 0
+    kept = residual_fraction(crossing.xi, modes)
     return StoreyBody(crossing, below, above, storey_shape(crossing.xi), arm, normal, line, columns,
-                      1.0 / k_n if k_n > 0 else 0.0, 1.0 / k_t if k_t > 0 else 0.0)  # fmt: skip
+                      kept / k_n if k_n > 0 else 0.0, kept / k_t if k_t > 0 else 0.0, modes, mass)  # fmt: skip
 
 
 def series_stiffness(k_normal: float, k_tangential: float, body: StoreyBody) -> tuple[float, float]:

@@ -74,7 +74,16 @@ class System:
     column_storey: np.ndarray  # (n_columns,) int64, global storey of each column instance
     column_plan: np.ndarray  # (n_columns, 2) global plan position, m
     members: MemberArrays  # yielding members (may be none)
-    damping_links: DampingLinkArrays  # what an isolated building's C adds to a0·M + a1·K (may be none)
+    damping_links: DampingLinkArrays  # what C adds to a0·M + a1·K: an isolated building's, local modes' (may be none)
+    influence: np.ndarray | None = None  # (n_dof,) ground influence ι: 1 on floors' u_x, u_y, Σw on a local mode's
+    stiffness_links: DampingLinkArrays | None = None  # 6×6 stiffness blocks beyond the storeys (local modes' springs)
+    local_modes: tuple = ()  # the struck columns' local modes (local_modes.LocalMode), one pseudo-floor each
+    mode_floor: np.ndarray | None = None  # (n_modes,) the global pseudo-floor of each local mode
+
+    def real_floors(self, b: int) -> slice:
+        """Global floors of building b's own floors (its local modes' pseudo-floors follow them)."""
+        f0 = int(self.floor_start[b])
+        return slice(f0, f0 + self.buildings[b].n_floors)
 
     @property
     def n_dof(self) -> int:
@@ -82,8 +91,10 @@ class System:
 
     @property
     def omega_max(self) -> float:
-        """Highest natural circular frequency of any building, rad/s."""
-        return max(float(b.modes.omega[-1]) for b in self.buildings)
+        """Highest natural circular frequency of any building, rad/s, the struck columns' local
+        modes (on fixed floors) included: the central difference method's stability limit
+        follows it (the hybrid's exact steps follow fastest_rate, the buildings' own)."""
+        return max([float(b.modes.omega[-1]) for b in self.buildings] + [m.omega for m in self.local_modes])
 
     def fastest_rate(self) -> tuple[float, int, int, float]:
         """(ρ, building, mode, ζ): the largest |λ| of any building's damped modes, 1/s (≥ ω_max;
@@ -205,4 +216,5 @@ def combine(buildings: list[BuildingArrays]) -> System:
         column_plan=np.asarray(col_plan, dtype=float).reshape(-1, 2),
         members=members,
         damping_links=damping_links,
+        influence=np.tile([1.0, 1.0, 0.0], int(start[-1])),
     )

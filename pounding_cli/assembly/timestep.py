@@ -174,14 +174,14 @@ def time_grid(
     yielding: the structure has yielding members. For `pound bench`: dt_fraction replaces the
     automatic rule by dt_fraction · 2/ω_max (structure or contact, the smaller limit);
     dt_scale scales every automatic step; sampling_scale the hybrid's ω_max·h (hybrid_sampling).
-    fastest_rate: ρ of the structure, 1/s (System.fastest_rate): where a mode is overdamped
-    its decay outpaces ω_max, and the exact steps are bounded by ρ·h instead, as the solver's
+    fastest_rate: ρ of the buildings, 1/s (System.fastest_rate; 0: omega_max): where a mode is
+    overdamped its decay outpaces ω_max, and the exact steps are bounded by ρ·h instead, as the solver's
     crest search needs (solver/peaks.py: crest_series_order sums a series in ρ·h)."""
     limit = stability_limit(omega_max)
     contact_limit = stability_limit(omega_contact) if omega_contact > 0 else float("inf")
     omega_step = omega_contact if omega_contact_step is None else omega_contact_step
     step_limit = stability_limit(omega_step) if omega_step > 0 else float("inf")
-    rate = max(omega_max, fastest_rate)
+    rate = fastest_rate if fastest_rate > 0 else omega_max  # ρ ≥ the buildings' ω_max (omega_max may hold local modes)
     if analysis.dt != "auto" and float(analysis.dt) >= limit:
         raise InputError(
             f"time step {float(analysis.dt):g} s is at or above the stability limit 2/ω_max = {limit:.4g} s "

@@ -73,7 +73,9 @@ def demand_table(doc: dict[str, Any]) -> list[TableSpec]:
     if not rows:
         return []
     return [TableSpec("Columns struck between floors (slab–storey impacts): the largest over the run; demand/capacity "
-                      "against shear_capacity (x / y), flagged at 1 or more. The columns are massless in this version: "
-                      "with their own mass an impact's peak shear can be up to twice these (docs/validation.md)",
+                      "against shear_capacity (x / y), flagged at 1 or more. The impact's part is its peak force's static share "
+                      "by the fixed–fixed point-load formulas: where the columns vibrate with their own mass "
+                      "(contact.column_modes) their inertia is not in it, and massless columns' peak shear can be up "
+                      "to twice these (docs/validation.md)",
                       ["building", "column", "storey", "ξ", "impacts", "impact V (kN)", "impact M (kN·m)",
                        "whole V (kN)", "capacity (kN)", "demand/capacity"], rows, right={2, 3, 4, 5, 6, 7})]  # fmt: skip

@@ -46,7 +46,8 @@ def building_result(system: System, b: int, response: Response, column_offset: i
     """Cut building b's part out of a response, its histories as `dtype` (HISTORY_DTYPE); its
     column instances start at column_offset."""
     bld: BuildingArrays = system.buildings[b]
-    dofs = system.building_dofs(b)
+    floors = system.real_floors(b)  # its local modes' pseudo-floors, after its floors, are not in the results
+    dofs = slice(3 * floors.start, 3 * floors.stop)
     n = bld.n_floors
     nt = response.time.size
     floors0 = int(system.floor_start[b])
@@ -110,7 +111,8 @@ def contact_result(contact: ContactArrays, response: Response, system: System | 
         depth=h[:, :, kernel.NOW_DEPTH],
         events=events,
         column_demand=(column_demand(system, contact, events, response.time,
-                                     response.displacement[:, : system.mass.size].reshape(response.time.size, -1, 3))
+                                     response.displacement[:, : system.mass.size].reshape(response.time.size, -1, 3),
+                                     getattr(response, "storey_shear_peak", None))
                        if system is not None and contact.storeys else None),  # fmt: skip
     )
 

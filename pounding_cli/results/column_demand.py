@@ -13,8 +13,12 @@ These are the impact's own share of the column's forces, at the step of the impa
 force (with the friction logged there); they act on top of the shear the storey's drift puts
 into the column, K_i·δ_i, which is added at that instant from the stored floor motion (linear
 between output samples), so that `shear_*` is the column's whole shear at each end. Columns are
-massless here: with the struck column's own mass its local modes raise the instantaneous shear
-(theory §10, "What it leaves out").
+massless here. Where they have local modes (assembly/local_modes.py), the time loop keeps the
+bundle's own end shears and moments at the step of each impact at which the larger end shear
+peaked (solver/storey_bodies.track_column_shears: the modes' restoring forces, the static
+reaction of what of the force they leave, and the inertia of the columns' mass that moves with
+the floors); the columns share those by the same weights, the
+drift is added at that instant, and the moment under the load is not given (NaN).
 """
 
 from __future__ import annotations
@@ -75,14 +79,19 @@ def _at(time: np.ndarray, series: np.ndarray, t: np.ndarray) -> np.ndarray:
 
 
 def struck_column_shears(system: System, body: StoreyBody, column: int, t: np.ndarray, force: np.ndarray,
-                         time: np.ndarray, displacement: np.ndarray) -> dict[str, np.ndarray]:  # fmt: skip
+                         time: np.ndarray, displacement: np.ndarray,
+                         ends: tuple[np.ndarray, np.ndarray] | None = None,
+                         floors: tuple[np.ndarray, np.ndarray] | None = None) -> dict[str, np.ndarray]:  # fmt: skip
     """What the storey body's struck column `column` (index into its building's `columns`)
     carries when the force `force` (len(t), 2; N, global, on the struck building) acts at the
     times t (s): {"share": of the normal force, "load": (len(t), 2) its share, global, N,
     "impact_bottom", "impact_top": the load's end shears, "bottom", "top": the whole end shears
     with the storey's drift K·δ (len(t), 2 each; local axes, N)} (module docstring). The floors'
     motion comes from `displacement` (nt, n_floors of all buildings, 3) at `time`, linear
-    between samples."""
+    between samples. ends: the bundle's own end shears (Q at the foot, Q at the top; (len(t), 2)
+    each, global, N) where its columns have local modes (solver/storey_bodies.track_column_shears):
+    the column takes its share of them in place of the point load's fixed-end shears; floors: the
+    motion of the floors below and above ((len(t), 3) each) at t, in place of the stored one."""
     struck = system.buildings[body.crossing.struck]
     first = int(system.floor_start[body.crossing.struck])
     normal = body.normal
@@ -92,28 +101,40 @@ def struck_column_shears(system: System, body: StoreyBody, column: int, t: np.nd
     j = body.columns.index(column)
     share_n = stiff_n[j] / stiff_n.sum() if stiff_n.sum() > 0 else 0.0
     share_t = stiff_t[j] / stiff_t.sum() if stiff_t.sum() > 0 else 0.0
-    load = share_n * np.outer(force @ normal, normal) + share_t * np.outer(force @ along, along)
+    def shared(f: np.ndarray) -> np.ndarray:
+        return share_n * np.outer(f @ normal, normal) + share_t * np.outer(f @ along, along)
+
+    load = shared(force)
     h, xi = body.crossing.height, body.crossing.xi
     v_bottom, v_top, *_ = fixed_end_forces(1.0, xi * h, h)
     col = struck.columns[column]
     angle = struck.rotation + np.radians(struck.column_lines[col.line].angle)
     axes = np.array([[np.cos(angle), np.sin(angle)], [-np.sin(angle), np.cos(angle)]])  # rows: local x, y
-    q_top = _at(time, displacement[:, first + body.above], t)
-    q_bottom = _at(time, displacement[:, first + body.below], t) if body.below >= 0 else np.zeros_like(q_top)
+    if floors is not None:
+        q_bottom, q_top = floors
+    else:
+        q_top = _at(time, displacement[:, first + body.above], t)
+        q_bottom = _at(time, displacement[:, first + body.below], t) if body.below >= 0 else np.zeros_like(q_top)
     # the storey's own shear in the column, K·δ (δ: its top less its bottom); the shear Q(z), the
     # force of the part above a section on the part below, is K·δ all along, and the load adds
     # +V_bottom below it and −V_top above it
     drift = q_top @ rigid_arm(col.arm_top).T - q_bottom @ rigid_arm(col.arm_bottom).T
     storey = drift @ col.plan_stiffness.T
-    impact_bottom, impact_top = (v_bottom * load) @ axes.T, (-v_top * load) @ axes.T
+    if ends is None:
+        impact_bottom, impact_top = (v_bottom * load) @ axes.T, (-v_top * load) @ axes.T
+    else:
+        impact_bottom, impact_top = shared(ends[0]) @ axes.T, shared(ends[1]) @ axes.T
     return {"share": share_n, "load": load, "impact_bottom": impact_bottom, "impact_top": impact_top,
             "bottom": storey @ axes.T + impact_bottom, "top": storey @ axes.T + impact_top}  # fmt: skip
 
 
 def column_demand(system: System, contact: ContactArrays, events: np.ndarray, time: np.ndarray,
-                  displacement: np.ndarray) -> np.ndarray:  # fmt: skip
+                  displacement: np.ndarray, shear_peak: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
     """DEMAND_DTYPE rows for every logged impact of a slab–storey pair (events: EVENT_DTYPE;
-    displacement: (nt, n_floors of all buildings, 3) the floors' motion, global axes)."""
+    displacement: (nt, n_floors of all buildings, 3) the floors' motion, global axes). Where the
+    struck columns have local modes, shear_peak (n_events, 8; integrate.Response.storey_shear_peak)
+    holds the bundle's end shears and moments at the step where they peaked in each impact: the
+    row is at that instant, the moment under the load NaN."""
     rows = []
     n_slab = contact.n_pairs - len(contact.storeys)
     for k, e in enumerate(events):
@@ -128,10 +149,18 @@ def column_demand(system: System, contact: ContactArrays, events: np.ndarray, ti
         f_t = float(e["tangential_force_at_peak"]) if np.isfinite(e["tangential_force_at_peak"]) else 0.0
         force = (float(e["peak_normal_force"]) * n_ab + f_t * np.array([-n_ab[1], n_ab[0]]))[None, :]
         t = np.array([float(e["t_peak"])])
+        ends = floors = None
+        if body.modes and shear_peak is not None and k < shear_peak.shape[0]:
+            row = shear_peak[k]
+            t = np.array([row[1]])
+            ends = (row[None, 2:4], row[None, 4:6])
+            floors = (row[None, 8:11], row[None, 11:14])
         for i in body.columns:
             col = struck.columns[i]
-            shears = struck_column_shears(system, body, i, t, force, time, displacement)
+            shears = struck_column_shears(system, body, i, t, force, time, displacement, ends, floors)
             _, _, m_bottom, m_top, m_load = fixed_end_forces(float(np.hypot(*shears["load"][0])), xi * h, h)
+            if ends is not None:
+                m_bottom, m_top, m_load = shears["share"] * row[6], shears["share"] * row[7], np.nan
             bottom, top = shears["bottom"][0], shears["top"][0]
             capacity = np.asarray(col.shear_capacity if col.shear_capacity is not None else (np.nan, np.nan))
             ratio = float(max(np.max(np.abs(bottom) / capacity), np.max(np.abs(top) / capacity)))

@@ -121,7 +121,7 @@ def force_result(forces: SystemForces, system, b: int, response, column_offset: 
     base shear and that storey's are one."""
     bld = system.buildings[b]
     gauges = forces.gauges
-    storeys = slice(int(system.floor_start[b]), int(system.floor_start[b + 1]))
+    storeys = system.real_floors(b)  # storey s is beneath floor s (its local modes' pseudo-floors after them)
     cols = slice(column_offset, column_offset + len(bld.columns))
     g0 = gauges.storey_gauge[storeys]
     shear = forces.storey_shear[:, storeys].astype(dtype, copy=False)
@@ -133,7 +133,7 @@ def force_result(forces: SystemForces, system, b: int, response, column_offset: 
     result = ForceResult(
         storey_shear=shear,
         base_shear=shear[:, base].copy(),
-        floor_contact=response.floor_contact[:, system.building_dofs(b)].reshape(nt, bld.n_floors, 3),
+        floor_contact=response.floor_contact[:, 3 * storeys.start : 3 * storeys.stop].reshape(nt, bld.n_floors, 3),
         peak_storey_shear=peak_storey,
         peak_base_shear=peak_storey[base].copy(),
         peak_column_shear=peak_col,

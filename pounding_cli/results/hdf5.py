@@ -219,7 +219,10 @@ def _write_contact(g: h5py.Group, c: ContactResult, time: h5py.Dataset, axis: h5
             "column's share of it, the impact's own end shears (local axes; the shear Q, force of the part "
             "above a section on the part below) and moments by the fixed-fixed point-load formulas, the "
             "column's whole end shears (with its storey's drift K*delta), its shear_capacity and the "
-            "demand/capacity ratio (NaN without a capacity)"
+            "demand/capacity ratio (NaN without a capacity); where the struck columns have local modes "
+            "(a density), at the step where their whole end shear peaked from the impact's start to the "
+            "next's, with the modes' restoring forces and the columns' inertia in the impact's part, and "
+            "impact_moment_at_load NaN"
         )
     pairs = g.create_dataset("pairs", data=c.pairs.astype(h5_dtype(PAIR_DTYPE)), track_times=False)
     pairs.attrs["units"] = PAIR_UNITS

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from .jit import INTERNAL, REASSOCIATE, kernel, phase
 from .layout import E_BALANCE, E_CONTACT, E_DAMPING, E_HYSTERETIC, E_INPUT, E_KINETIC, E_STRAIN
-from .storey_bodies import forces_with_storeys
+from .storey_bodies import forces_with_storeys, track_column_shears
 from .hysteresis import member_states, plastic_correction, plastic_energy_terms, update_members
 from .peaks import update_peaks, update_peaks_range
 from .tunables import DIVERGENCE_LIMIT, ENERGY_LIMIT
@@ -71,8 +71,9 @@ def ground_at(t, ground):
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
 def storey_matvec(x, storey_k, bottom, top, out):
-    """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s])."""
-    _storey_product(x, storey_k, bottom, top, 0, storey_k.shape[0], out)
+    """out = K·x, summed storey by storey (K_s is 6×6 on the DOFs of bottom[s], top[s]), then
+    link by link."""
+    _storey_product(x, storey_k, bottom, top, 0, x.size // 3 - 1, out)
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
@@ -87,19 +88,30 @@ def storey_matvec_range(x, storey_k, bottom, top, f0, f1, out):
 @kernel(fastmath=REASSOCIATE, inline="always")
 def _storey_product(x, storey_k, bottom, top, f0, f1, out):
     """storey_matvec_range's body, inlined into both kernels (numba's inlining: a call layer
-    cost 10 % of a CDM step of two buildings)."""
+    cost 10 % of a CDM step of two buildings). The stiffness links after the storeys
+    (records.Structure.storey_k: the struck columns' local modes) count where their top floor
+    is in range (a link joins two floors of one building)."""
     for d in range(3 * f0, 3 * f1):
         out[d] = 0.0
     for d in range(out.size - 3, out.size):
         out[d] = 0.0
     for s in range(f0, f1):
-        b = 3 * bottom[s]
-        t = 3 * top[s]
-        for r in range(6):
-            acc = 0.0
-            for c in range(3):
-                acc += storey_k[s, r, c] * x[b + c] + storey_k[s, r, c + 3] * x[t + c]
-            out[b + r if r < 3 else t + r - 3] += acc
+        _block_product(s, x, storey_k, bottom, top, out)
+    for s in range(x.size // 3 - 1, storey_k.shape[0]):
+        if f0 <= top[s] < f1:
+            _block_product(s, x, storey_k, bottom, top, out)
+
+
+@kernel(fastmath=REASSOCIATE, inline="always")
+def _block_product(s, x, storey_k, bottom, top, out):
+    """out += K_s·x for the 6×6 block s on the DOFs of floors bottom[s] and top[s]."""
+    b = 3 * bottom[s]
+    t = 3 * top[s]
+    for r in range(6):
+        acc = 0.0
+        for c in range(3):
+            acc += storey_k[s, r, c] * x[b + c] + storey_k[s, r, c + 3] * x[t + c]
+        out[b + r if r < 3 else t + r - 3] += acc
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
@@ -113,19 +125,28 @@ def storey_matvec_pair_range(x, y, storey_k, bottom, top, f0, f1, kx, ky):
         kx[d] = 0.0
         ky[d] = 0.0
     for s in range(f0, f1):
-        b = 3 * bottom[s]
-        t = 3 * top[s]
-        for r in range(6):
-            ax = 0.0
-            ay = 0.0
-            for c in range(3):
-                k_b = storey_k[s, r, c]
-                k_t = storey_k[s, r, c + 3]
-                ax += k_b * x[b + c] + k_t * x[t + c]
-                ay += k_b * y[b + c] + k_t * y[t + c]
-            d = b + r if r < 3 else t + r - 3
-            kx[d] += ax
-            ky[d] += ay
+        _block_pair_product(s, x, y, storey_k, bottom, top, kx, ky)
+    for s in range(x.size // 3 - 1, storey_k.shape[0]):
+        if f0 <= top[s] < f1:
+            _block_pair_product(s, x, y, storey_k, bottom, top, kx, ky)
+
+
+@kernel(fastmath=REASSOCIATE, inline="always")
+def _block_pair_product(s, x, y, storey_k, bottom, top, kx, ky):
+    """kx += K_s·x and ky += K_s·y for the 6×6 block s (as _block_product, twice)."""
+    b = 3 * bottom[s]
+    t = 3 * top[s]
+    for r in range(6):
+        ax = 0.0
+        ay = 0.0
+        for c in range(3):
+            k_b = storey_k[s, r, c]
+            k_t = storey_k[s, r, c + 3]
+            ax += k_b * x[b + c] + k_t * x[t + c]
+            ay += k_b * y[b + c] + k_t * y[t + c]
+        d = b + r if r < 3 else t + r - 3
+        kx[d] += ax
+        ky[d] += ay
 
 
 @kernel
@@ -133,7 +154,8 @@ def damping_force(v, kv, mass, damping, n_dof, out):
     """out = C·v = a0·M·v + a1·K·v + Σ links·v, given kv = K·v. damping = (a0, a1 per DOF;
     link matrices (n, 6, 6), bottom and top floors (n,)): the links are 6×6 blocks on two
     floors' DOFs (the ground, an extra zero floor, for a bottom) that make an isolated
-    building's C its superstructure's on its deformation (assembly/damping.py); none else."""
+    building's C its superstructure's on its deformation (assembly/damping.py) and give the
+    struck columns' local modes their own dashpots (assembly/local_modes.py); none else."""
     _damping_product(v, kv, mass, damping, 0, n_dof, out)
 
 
@@ -271,13 +293,14 @@ def _velocity_update_awake(agx, agy, step, structure, motion, work, fc, awake):
     """_velocity_update for the awake buildings (no yielding members: where buildings sleep
     there are none, integrate.may_sleep)."""
     mass, ku, cv_half, v_half = structure.mass, motion.ku, motion.cv_half, motion.v_half
+    ground_mass, influence = structure.ground_mass, structure.influence
     r, dv, v, a_abs = work.r, work.dv, work.v, work.a_abs
     runs = awake.runs
     for i in range(awake.n_runs[0]):
         for f in range(runs[i, 0], runs[i, 1]):
             d = 3 * f
-            r[d] = -mass[d] * agx - ku[d] - cv_half[d] + fc[d]
-            r[d + 1] = -mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1] + fc[d + 1]
+            r[d] = -ground_mass[d] * agx - ku[d] - cv_half[d] + fc[d]
+            r[d + 1] = -ground_mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1] + fc[d + 1]
             r[d + 2] = -ku[d + 2] - cv_half[d + 2] + fc[d + 2]
     for i in range(awake.n_runs[0]):
         solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.buildings[runs[i, 6]:],
@@ -289,8 +312,8 @@ def _velocity_update_awake(agx, agy, step, structure, motion, work, fc, awake):
             v[d] = v_half[d] + 0.5 * dv[d]
             a_abs[d] = dv[d] / step.dt
         for f in range(runs[i, 0], runs[i, 1]):
-            a_abs[3 * f] += agx
-            a_abs[3 * f + 1] += agy
+            a_abs[3 * f] += influence[3 * f] * agx
+            a_abs[3 * f + 1] += influence[3 * f + 1] * agy
         for d in range(d0, d1):
             v_half[d] += dv[d]
         storey_matvec_range(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, runs[i, 0],
@@ -301,7 +324,7 @@ def _velocity_update_awake(agx, agy, step, structure, motion, work, fc, awake):
 @phase
 def _step_energy_awake(agx, agy, dt, mass, motion, work, fc, awake):
     """The trapezoidal step of the input, damping and contact work of the awake buildings, from
-    the powers at t_n (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
+    the powers at t_n (mass: M·ι, the masses the ground drives) (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
     v, cv_half, cv_next = work.v, motion.cv_half, work.cv_next
     runs = awake.runs
     p_in = 0.0
@@ -366,21 +389,22 @@ def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
     (v_n = v_{n−½} + Δv_n/2, a_n = Δv_n/Δt plus the ground's); v_{n+½} = v_{n−½} + Δv_n and
     the step's one mat-vec z = K·v_{n+½}, with C·v_{n+½} from it."""
     mass, ku, cv_half, v_half = structure.mass, motion.ku, motion.cv_half, motion.v_half
+    ground_mass, influence = structure.ground_mass, structure.influence
     r, dv, v, a_abs = work.r, work.dv, work.v, work.a_abs
     n_dof = mass.size
     n_floors = n_dof // 3
     for f in range(n_floors):
         d = 3 * f
-        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
-        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
+        r[d] = -ground_mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
+        r[d + 1] = -ground_mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
         r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
     solve_blocks(step.inverse, structure.dof_start, structure.dof_count, r, dv)
     for d in range(n_dof):
         v[d] = v_half[d] + 0.5 * dv[d]
         a_abs[d] = dv[d] / step.dt
     for f in range(n_floors):
-        a_abs[3 * f] += agx
-        a_abs[3 * f + 1] += agy
+        a_abs[3 * f] += influence[3 * f] * agx
+        a_abs[3 * f + 1] += influence[3 * f + 1] * agy
     for d in range(n_dof):
         v_half[d] += dv[d]
     storey_matvec(v_half, structure.storey_k, structure.storey_bottom, structure.storey_top, work.z)
@@ -390,6 +414,7 @@ def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
 @phase
 def _step_energy(agx, agy, dt, mass, motion, work, fc):
     """The trapezoidal step of the input, damping and contact work, from the powers at t_n
+    (mass: M·ι, the masses the ground drives)
     (C·v_n = ½(C·v_{n−½} + C·v_{n+½}), C being linear)."""
     v, cv_half, cv_next = work.v, motion.cv_half, work.cv_next
     n_dof = mass.size
@@ -478,7 +503,9 @@ def _advance_awake(n_start, n_stop, step, structure, ground, motion, work, peaks
         # internal forces K·u_n and C·v_{n−½} are carried in motion.ku, motion.cv_half
         _contact_phase_awake(n, dt, motion, work.dv, contact, awake)
         _velocity_update_awake(agx, agy, step, structure, motion, work, contact.force, awake)
-        _step_energy_awake(agx, agy, dt, structure.mass, motion, work, contact.force, awake)
+        if contact.storeys.shear_peak.shape[0] > 0:
+            track_column_shears(n * dt, agx, agy, motion.u, work.a_abs, contact)
+        _step_energy_awake(agx, agy, dt, structure.ground_mass, motion, work, contact.force, awake)
         _step_peaks_awake(motion, work, structure, peaks, awake)
         status = _step_output(n, agx, agy, step.per_output, structure, motion, work, out, contact, yielding)
         if status != STATUS_OK:
@@ -497,7 +524,9 @@ def _advance_all(n_start, n_stop, step, structure, ground, motion, work, peaks, 
         # internal forces K·u_n and C·v_{n−½} are carried in motion.ku, motion.cv_half
         _contact_phase(n, dt, motion, work.dv, contact)
         _velocity_update(agx, agy, step, structure, motion, work, contact.force, yielding.g)
-        _step_energy(agx, agy, dt, structure.mass, motion, work, contact.force)
+        if contact.storeys.shear_peak.shape[0] > 0:
+            track_column_shears(n * dt, agx, agy, motion.u, work.a_abs, contact)
+        _step_energy(agx, agy, dt, structure.ground_mass, motion, work, contact.force)
         update_peaks(motion.u, work.a_abs, structure, work.storey_work, peaks)
         status = _step_output(n, agx, agy, step.per_output, structure, motion, work, out, contact, yielding)
         if status != STATUS_OK:

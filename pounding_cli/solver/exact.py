@@ -42,9 +42,10 @@ def exact_state(t, structure, ground, motion, work, exact, g, f0, f1):
     damping_force_range(v, kv, mass, structure.damping, d0, d1, cv)
     for d in range(d0, d1):
         a_abs[d] = -(ku[d] - g[d] + cv[d]) / mass[d]
+    influence = structure.influence
     for d in range(d0, d1, 3):
-        a_rel[d] = a_abs[d] - agx
-        a_rel[d + 1] = a_abs[d + 1] - agy
+        a_rel[d] = a_abs[d] - influence[d] * agx
+        a_rel[d + 1] = a_abs[d + 1] - influence[d + 1] * agy
         a_rel[d + 2] = a_abs[d + 2]
     return agx, agy
 
@@ -65,8 +66,9 @@ def exact_point(t, gap, structure, ground, motion, work, exact, peaks, g):
     n_dof = mass.size
     p_in = 0.0
     p_damp = 0.0
+    ground_mass = structure.ground_mass
     for d in range(0, n_dof, 3):
-        p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
+        p_in -= ground_mass[d] * (agx * v[d] + agy * v[d + 1])
     for d in range(n_dof):
         p_damp += v[d] * cv[d]
     if smooth:  # the exact step's own work (propagate), then the powers for a later trapezoid
@@ -147,8 +149,8 @@ def state_series(u, v, a_rel, sx, sy, structure, series, series_k, f0, f1):
             series[j + 2, d] = 0.0
         if j == 1:
             for d in range(d0, d1, 3):
-                series[3, d] -= sx
-                series[3, d + 1] -= sy
+                series[3, d] -= structure.influence[d] * sx
+                series[3, d + 1] -= structure.influence[d + 1] * sy
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
@@ -158,7 +160,8 @@ def propagate(t, h, u, v, phi, g0, g1, mean_rows, damping_form, blocks, n_blocks
     one by one, and their exact work
     over the step of the ground, into acc[ACC_STEP_INPUT], and of the damping, into
     acc[ACC_STEP_DAMPING], J (propagator.py: from z₀ = (u, v, a₀, Δa), the mean rows r and the
-    damping form G of each building). x (2·n_max + 4), y (2·n_max): scratch."""
+    damping form G of each building). mass: M·ι, the masses the ground drives (the translations
+    S = ιᵀ·M·u). x (2·n_max + 4), y (2·n_max): scratch."""
     a0x, a0y = ground_at(t, ground)
     a1x, a1y = ground_at(t + h, ground)
     dx = a1x - a0x
@@ -220,7 +223,7 @@ def propagate_elastic(t, h, phi, g0, g1, mean_rows, damping_form, structure, gro
         for d in range(u_static.size):
             u[d] -= u_static[d]
     propagate(t, h, u, exact.v, phi, g0, g1, mean_rows, damping_form, structure.buildings, structure.buildings.size,
-              structure.dof_start, structure.dof_count, structure.mass, ground, exact.x, exact.y,
+              structure.dof_start, structure.dof_count, structure.ground_mass, ground, exact.x, exact.y,
               motion.energy)  # fmt: skip
     if has_members:
         for d in range(u_static.size):
@@ -275,8 +278,8 @@ def cdm_state_at(agx, agy, step, structure, motion, work, exact, g, f0, f1, b0, 
     d0, d1 = 3 * f0, 3 * f1
     storey_matvec_range(u, structure.storey_k, structure.storey_bottom, structure.storey_top, f0, f1, ku)
     for d in range(d0, d1, 3):
-        r[d] = -mass[d] * agx - ku[d] + g[d] - cv_half[d]
-        r[d + 1] = -mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1]
+        r[d] = -structure.ground_mass[d] * agx - ku[d] + g[d] - cv_half[d]
+        r[d + 1] = -structure.ground_mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1]
         r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2]
     solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.buildings[b0:], b1 - b0, r, dv)
     for d in range(d0, d1):
@@ -286,7 +289,7 @@ def cdm_state_at(agx, agy, step, structure, motion, work, exact, g, f0, f1, b0, 
     p_in = 0.0
     p_damp = 0.0
     for d in range(d0, d1, 3):
-        p_in -= mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
+        p_in -= structure.ground_mass[d] * (agx * v_exact[d] + agy * v_exact[d + 1])
     for d in range(d0, d1):
         p_damp += v_exact[d] * cv[d]
     return p_in, p_damp

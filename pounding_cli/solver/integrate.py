@@ -220,6 +220,7 @@ class Response:
     residual_member: np.ndarray | None = None  # (n_members, 2) local deflection at rest after the run, m
     peak_gauge: np.ndarray | None = None  # (n_gauges,) running max |q| of the force gauges, N or N·m
     floor_contact: np.ndarray | None = None  # (n_out, n_dof) contact forces on the floors, N and N·m
+    storey_shear_peak: np.ndarray | None = None  # (n_events, 14) struck columns with local modes: records.StoreyBodies.shear_peak
 
 
 def ground_as_floor(structure: StructureArrays) -> np.ndarray:
@@ -227,13 +228,35 @@ def ground_as_floor(structure: StructureArrays) -> np.ndarray:
     return np.where(structure.storey_bottom < 0, structure.mass.size // 3, structure.storey_bottom)
 
 
+def influence_of(structure: StructureArrays) -> np.ndarray:
+    """(n_dof,) the ground influence ι (System.influence; 1 on every floor's u_x, u_y without it)."""
+    iota = getattr(structure, "influence", None)
+    return np.tile([1.0, 1.0, 0.0], structure.mass.size // 3) if iota is None else np.asarray(iota, dtype=float)
+
+
+def storeys_and_links(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(k, bottom, top) of the storeys followed by the stiffness links (the local modes'
+    springs, System.stiffness_links), the ground as the extra floor: what the storey kernels
+    (cdm._storey_product) take."""
+    links = getattr(structure, "stiffness_links", None)
+    bottom = ground_as_floor(structure)
+    if links is None or links.matrix.shape[0] == 0:
+        return structure.storey_k, bottom, structure.storey_top
+    ground = structure.mass.size // 3
+    return (np.ascontiguousarray(np.concatenate([structure.storey_k, links.matrix])),
+            np.concatenate([bottom, np.where(links.bottom < 0, ground, links.bottom)]).astype(np.int64),
+            np.concatenate([structure.storey_top, links.top]).astype(np.int64))  # fmt: skip
+
+
 def stiffness_times(structure: StructureArrays, x: np.ndarray) -> np.ndarray:
-    """K·x for a vector of n_dof + 3 entries (ground last), storey by storey, with numpy (for
-    set-up: calling a compiled kernel from Python would load it from numba's cache)."""
+    """K·x for a vector of n_dof + 3 entries (ground last), storey by storey and link by link,
+    with numpy (for set-up: calling a compiled kernel from Python would load it from numba's
+    cache)."""
+    k, bottom, top = storeys_and_links(structure)
     dofs = np.array([0, 1, 2])
-    index = np.hstack([3 * ground_as_floor(structure)[:, None] + dofs, 3 * structure.storey_top[:, None] + dofs])
+    index = np.hstack([3 * bottom[:, None] + dofs, 3 * top[:, None] + dofs])
     out = np.zeros_like(x)
-    np.add.at(out, index, np.einsum("sij,sj->si", structure.storey_k, x[index]))
+    np.add.at(out, index, np.einsum("sij,sj->si", k, x[index]))
     return out
 
 
@@ -244,9 +267,10 @@ def ground_rate_response(structure: StructureArrays) -> np.ndarray:
     from the ground acceleration's rate (sx, sy), m/s³."""
     n = structure.mass.size
     rates = np.zeros((hybrid.N_RATES, n + 3))
+    iota = influence_of(structure)
     for axis in range(2):
         unit = np.zeros(n + 3)
-        unit[axis:n:3] = 1.0
+        unit[axis:n:3] = iota[axis::3]
         rates[5 + axis, :n] = damping_times(structure, unit)[:n] / structure.mass
     return rates
 
@@ -383,9 +407,11 @@ def simulate(
     n_out = n_steps // stride + 1
     binv, starts, counts = step_matrices(structure, dt)
     centre, col_arm = peak_geometry(structure)
-    structure_rec = Structure(structure.mass, damping_arrays(structure), structure.storey_k, ground_as_floor(structure),
-                      structure.storey_top, starts, counts, structure.storey_axes, centre, structure.column_storey,
-                      col_arm, np.arange(starts.size, dtype=np.int64))  # fmt: skip
+    storey_k, storey_bottom, storey_top = storeys_and_links(structure)
+    iota = influence_of(structure)
+    structure_rec = Structure(structure.mass, damping_arrays(structure), storey_k, storey_bottom, storey_top, starts,
+                              counts, structure.storey_axes, centre, structure.column_storey, col_arm,
+                              np.arange(starts.size, dtype=np.int64), iota, structure.mass * iota)  # fmt: skip
     ground_rec = Ground(ground, ground_dt)
     # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
     v0 = np.zeros(n_dof + 3)
@@ -393,8 +419,8 @@ def simulate(
         v0[:n_dof] = initial_velocity
     c_v0 = damping_times(structure, v0)
     a0 = np.zeros(n_dof + 3)
-    a0[0:n_dof:3] = -ground[0, 0]
-    a0[1:n_dof:3] = -ground[0, 1]
+    a0[0:n_dof:3] = -ground[0, 0] * iota[0::3]
+    a0[1:n_dof:3] = -ground[0, 1] * iota[1::3]
     a0[:n_dof] -= c_v0[:n_dof] / structure.mass
     v_half = v0 - 0.5 * dt * a0
     v_half[n_dof:] = 0.0
@@ -543,6 +569,8 @@ def simulate(
         residual_member=residual_deflections(structure, yielding.plastic, yielding.law) if n_members else None,
         peak_gauge=gauge_rec.peak,
         floor_contact=out.floor_contact[cut],
+        storey_shear_peak=(contact_rec.storeys.shear_peak[: min(n_events, events.shape[0])].copy()
+                           if contact_rec.storeys.shear_peak.shape[0] else None),  # fmt: skip
     )
 
 
@@ -566,20 +594,70 @@ def contact_state(contact: ContactData, n_dof: int, sweep: bool | None = None) -
         np.zeros(n_dof + 3 + 3 * n_storeys),
         np.zeros(n_dof + 3),
         contact_kernel.buffers(int(c.body_poly.shape[1])),
-        storey_bodies(c, n_dof),
+        storey_bodies(c, n_dof, MAX_EVENTS if n_pairs else 1),
     )
 
 
-def storey_bodies(contact: ContactData, n_dof: int) -> StoreyBodies:
+def storey_bodies(contact: ContactData, n_dof: int, n_rows: int = 1) -> StoreyBodies:
     """The struck storeys as virtual floors (records.StoreyBodies, storey_bodies.py): the
-    ground's slot n_dof/3 stands for the floor below the first storey."""
+    ground's slot n_dof/3 stands for the floor below the first storey; with local modes, room
+    for the struck columns' shears of n_rows impacts."""
     none = NoContact()
     shape, below, above, arm = (getattr(contact, name, getattr(none, name))
                                 for name in ("storey_shape", "storey_below", "storey_above", "storey_arm"))  # fmt: skip
     size = n_dof + 3 + 3 * shape.size
+    modes = getattr(contact, "body_modes", None)
+    if modes is None or modes.floor.size == 0:
+        first = np.zeros(shape.size + 1, dtype=np.int64)
+        floor, phi, weight, arms = np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, 2)), np.zeros((0, 4))
+        stiffness, theta, n_rows = np.zeros((0, 2, 2)), np.zeros((0, 2)), 0
+    else:
+        first, floor, phi, weight, arms = modes.first, modes.floor, modes.phi, modes.weights, modes.arms
+        stiffness, theta = modes.stiffness, modes.theta
+    storeys = getattr(contact, "storeys", [])
+    xi = np.array([b.crossing.xi for b in storeys], dtype=float)
+    height = np.array([b.crossing.height for b in storeys], dtype=float)
+    n_pairs = contact.pair_a.size
     return StoreyBodies(np.where(below < 0, n_dof // 3, below).astype(np.int64), above.astype(np.int64),
                         shape.astype(float), np.ascontiguousarray(arm, dtype=float).reshape(-1, 2),
-                        np.zeros(size), np.zeros(size), np.zeros(size))  # fmt: skip
+                        np.zeros(size), np.zeros(size), np.zeros(size), np.asarray(first, dtype=np.int64),
+                        np.asarray(floor, dtype=np.int64), np.asarray(phi, dtype=float),
+                        np.ascontiguousarray(weight, dtype=float).reshape(-1, 2),
+                        np.ascontiguousarray(arms, dtype=float).reshape(-1, 4),
+                        np.ascontiguousarray(stiffness, dtype=float).reshape(-1, 2, 2),
+                        np.ascontiguousarray(theta, dtype=float).reshape(-1, 2),
+                        np.arange(n_pairs - shape.size, n_pairs, dtype=np.int64),  # storey pairs come last
+                        np.column_stack([xi * (1 - xi) ** 2, xi**2 * (xi - 1)]).reshape(-1, 2) * height[:, None],
+                        height, bundle_stiffness(contact, first), residual_masses(contact, first),
+                        np.zeros((shape.size, 2)),
+                        np.full(shape.size, -1, dtype=np.int64), np.zeros((n_rows, 14)))  # fmt: skip
+
+
+def bundle_stiffness(contact: ContactData, first: np.ndarray) -> np.ndarray:
+    """(n_s, 2, 2) each storey body's struck columns' summed plan stiffness, N/m (from its first
+    local mode's, (β₁⁴/12)·ΣK_i); zero where it has no local modes."""
+    from ..assembly.local_modes import clamped_beta
+
+    storeys = getattr(contact, "storeys", [])
+    out = np.zeros((len(storeys), 2, 2))
+    for k in range(len(storeys)):
+        if first[k + 1] > first[k]:
+            out[k] = contact.body_modes.stiffness[first[k]] * 12.0 / clamped_beta(1) ** 4
+    return out
+
+
+def residual_masses(contact: ContactData, first: np.ndarray) -> np.ndarray:
+    """(n_s, 2, 2) each storey body's struck bundle's mass that moves with the floors,
+    m·[[13/35, 9/70], [9/70, 13/35]] − Σ_m m·w_m·w_mᵀ (the storey shapes' consistent mass less
+    what the modes carry), kg; zero where it has no local modes."""
+    storeys = getattr(contact, "storeys", [])
+    out = np.zeros((len(storeys), 2, 2))
+    modes = getattr(contact, "body_modes", None)
+    for k, body in enumerate(storeys):
+        if first[k + 1] > first[k]:
+            w = modes.weights[first[k] : first[k + 1]]
+            out[k] = body.bundle_mass * (np.array([[13 / 35, 9 / 70], [9 / 70, 13 / 35]]) - w.T @ w)
+    return out
 
 
 def may_sleep(propagators: Propagators, n_pairs: int, n_members: int, structure: Structure,
@@ -638,10 +716,13 @@ def exact_branch(
     levels = approach_levels(substep, int(counts.max()), starts.size) if has_pairs else 0
     damping_dense = damping_blocks(structure)
     # steps of h/2^L, … h/2, h, 2h, from one set of matrix exponentials (the finest)
-    steps = building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**levels, levels + 1)
+    steps = building_propagators(blocks, damping_dense, structure.mass, starts, counts, h / 2**levels, levels + 1,
+                                 influence_of(structure))  # fmt: skip
     by_level = Propagator(*(np.ascontiguousarray(m[levels::-1]) for m in steps))  # level j: h/2^j
     kinv = inverse_blocks(blocks, counts) if has_members else np.zeros((1, 1, 1))
     rho = fastest_rate(blocks, damping_dense, structure.mass, starts, counts)
+    if getattr(structure, "local_modes", ()):  # the buildings' own: the crests' series need not follow local modes
+        rho = structure.fastest_rate()[0]
     doubles = rho * 2 * h <= CREST_SPAN and round(ground_dt / h) > 1 and stride // substep > 1
     double = Propagator(*(m[levels + 1] if doubles else m[levels + 1, :0] for m in steps))
     span = rho * (2 * h if doubles else h)

@@ -60,7 +60,7 @@ def storey_deflection(u, t, b, c, sn, centre):
 @phase
 def update_peaks(u, acc_abs, structure, storey_work, peaks):
     """update_peaks_range over every building."""
-    update_peaks_range(u, acc_abs, structure, storey_work, peaks, 0, structure.storey_top.size, 0,
+    update_peaks_range(u, acc_abs, structure, storey_work, peaks, 0, structure.mass.size // 3, 0,
                        structure.column_storey.size, 0, peaks.gauges.storey.size)  # fmt: skip
 
 

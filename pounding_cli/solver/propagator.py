@@ -28,7 +28,7 @@ from .expm import expm
 
 def building_propagators(
     stiffness_blocks: list[np.ndarray], damping_blocks: list[np.ndarray], mass: np.ndarray, starts, counts, h: float,
-    doublings: int = 0,
+    doublings: int = 0, influence: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(Φ, Γ₀, Γ₁, mean rows r, damping form G) of every building over steps of h, 2h, 4h, …
     2^doublings·h, each stacked on a first axis of doublings + 1 and padded to n_b buildings
@@ -37,7 +37,8 @@ def building_propagators(
     of z₀².
 
     stiffness_blocks[b] and damping_blocks[b] are building b's dense K and C; mass the
-    diagonal of M; starts, counts the buildings' DOF ranges. Rows/columns 0…n−1 of Φ are u,
+    diagonal of M; influence ι, how far a unit ground displacement moves each DOF (1 on the
+    floors' u_x, u_y; default); starts, counts the buildings' DOF ranges. Rows/columns 0…n−1 of Φ are u,
     n…2n−1 v; z₀ = (u, v, a₀X, a₀Y, ΔaX, ΔaY), of 2n + 4 entries (a building with n < n_max
     leaves the rest of its rows and columns zero, so its ground entries sit at 2n … 2n + 3).
     The matrix exponentials are taken over h only; each longer step follows from the one
@@ -49,12 +50,13 @@ def building_propagators(
     g1 = np.zeros((levels, n_b, 2 * n_max, 2))
     mean_rows = np.zeros((levels, n_b, 2, 2 * n_max + 4))
     damping_form = np.zeros((levels, n_b, 2 * n_max + 4, 2 * n_max + 4))
+    iota = np.tile([1.0, 1.0, 0.0], mass.size // 3) if influence is None else influence
     for b, (d0, n) in enumerate(zip(starts, counts)):
         m = mass[d0 : d0 + n]
         c = damping_blocks[b]
         size = 2 * n + 4
-        aug = _augmented(stiffness_blocks[b], c, m, n, h)
-        e, rows, form = expm(aug), _mean_rows(aug, m, n), _damping_form(aug, c, n, h)
+        aug = _augmented(stiffness_blocks[b], c, m, n, h, iota[d0 : d0 + n])
+        e, rows, form = expm(aug), _mean_rows(aug, m * iota[d0 : d0 + n], n), _damping_form(aug, c, n, h)
         for level in range(levels):
             if level:
                 e, rows, form = _doubled(e, rows, form, n)
@@ -77,12 +79,12 @@ def state_matrix(k: np.ndarray, c: np.ndarray, m: np.ndarray) -> np.ndarray:
     return a
 
 
-def _augmented(k: np.ndarray, c: np.ndarray, m: np.ndarray, n: int, h: float) -> np.ndarray:
-    """Â (2n + 4)² of a step h: dz/dσ = Â·z for z = (u, v, a₀, Δa), σ = t/h."""
+def _augmented(k: np.ndarray, c: np.ndarray, m: np.ndarray, n: int, h: float, iota: np.ndarray) -> np.ndarray:
+    """Â (2n + 4)² of a step h: dz/dσ = Â·z for z = (u, v, a₀, Δa), σ = t/h (iota: ι, (n,))."""
     a = state_matrix(k, c, m)
     bmat = np.zeros((2 * n, 2))
-    bmat[n::3, 0] = -1.0  # the v_x rows feel −a_X
-    bmat[n + 1 :: 3, 1] = -1.0  # the v_y rows feel −a_Y
+    bmat[n::3, 0] = -iota[0::3]  # the v_x rows feel −ι·a_X
+    bmat[n + 1 :: 3, 1] = -iota[1::3]  # the v_y rows feel −ι·a_Y
     aug = np.zeros((2 * n + 4, 2 * n + 4))
     aug[: 2 * n, : 2 * n] = a * h
     aug[: 2 * n, 2 * n : 2 * n + 2] = bmat * h
@@ -106,7 +108,7 @@ def _doubled(e: np.ndarray, rows: np.ndarray, form: np.ndarray, n: int) -> tuple
 
 
 def _mean_rows(aug: np.ndarray, m: np.ndarray, n: int) -> np.ndarray:
-    """(2, 2n + 4): S̄_axis = row·z₀, the step's mean of ι_axisᵀ·M·u (X, Y), kg·m."""
+    """(2, 2n + 4): S̄_axis = row·z₀, the step's mean of ι_axisᵀ·M·u (X, Y), kg·m (m: M·ι)."""
     size = aug.shape[0]
     block = np.zeros((2 * size, 2 * size))
     block[:size, :size] = aug

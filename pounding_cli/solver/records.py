@@ -50,7 +50,9 @@ class Structure(NamedTuple):
     """(n_dof,) floor masses, kg (rotational inertia about the mass centre, kg·m², for θ)"""
     damping: Damping
     storey_k: np.ndarray
-    """(n_storeys, 6, 6) storey stiffness on the DOFs of its bottom and top floors, N/m, N, N·m"""
+    """(n_storeys + n_links, 6, 6) storey stiffness on the DOFs of its bottom and top floors, N/m,
+    N, N·m: storey s < n_floors is the one beneath floor s; the stiffness links after them
+    (local modes' springs, assembly/local_modes.py) join any two floors of one building"""
     storey_bottom: np.ndarray
     """(n_storeys,) floor below each storey (n_floors, the ground, for a ground storey)"""
     storey_top: np.ndarray
@@ -70,6 +72,11 @@ class Structure(NamedTuple):
     """(n_columns, 2) ξ, η: the column's arm in building axes, m (peaks.update_peaks)"""
     buildings: np.ndarray
     """(n_buildings,) 0 … n_buildings − 1: every building, as a list of them (exact.propagate)"""
+    influence: np.ndarray
+    """(n_dof,) ground influence ι: how far a unit ground displacement along the DOF's axis moves
+    it (1 on the floors' u_x, u_y, 0 on θ; Σw on a struck column's local mode, assembly/local_modes.py)"""
+    ground_mass: np.ndarray
+    """(n_dof,) M·ι, kg: the masses the ground drives (p = −M·ι·a_g)"""
 
 
 class Ground(NamedTuple):
@@ -306,6 +313,41 @@ class StoreyBodies(NamedTuple):
     """(n_dof + 3 + 3·n_s) work: a velocity vector, extended"""
     w: np.ndarray
     """(n_dof + 3 + 3·n_s) work: a second velocity (or an acceleration) vector, extended"""
+    mode_first: np.ndarray
+    """(n_s + 1,) body k's outline is moved by the local modes mode_first[k] … mode_first[k + 1] − 1"""
+    mode_floor: np.ndarray
+    """(n_m,) each local mode's pseudo-floor (assembly/local_modes.py)"""
+    mode_phi: np.ndarray
+    """(n_m,) φ_k(ξ): the outline's displacement per unit of the mode's coordinate"""
+    mode_weight: np.ndarray
+    """(n_m, 2) w_k: the mode's coupling to the floors below and above"""
+    mode_arm: np.ndarray
+    """(n_m, 4) the struck columns' point from the mass centre below (x, y) and above (x, y), m"""
+    mode_k: np.ndarray
+    """(n_m, 2, 2) the mode's plan stiffness K_m, N/m"""
+    mode_theta: np.ndarray
+    """(n_m, 2) the mode's couplings to the end rotations, (∫ξ(1 − ξ)²φ dξ, ∫ξ²(ξ − 1)φ dξ)"""
+    pair: np.ndarray
+    """(n_s,) the contact pair of each body"""
+    rotation_shape: np.ndarray
+    """(n_s, 2) h·(ξ(1 − ξ)², ξ²(ξ − 1)): the end moments per unit of a point load at ξ on a column
+    clamped at both ends, m"""
+    height: np.ndarray
+    """(n_s,) the struck storey's height, m"""
+    bundle_k: np.ndarray
+    """(n_s, 2, 2) the struck columns' summed plan stiffness ΣK_i, N/m (zero without local modes)"""
+    residual_mass: np.ndarray
+    """(n_s, 2, 2) the struck bundle's mass that moves with the floors, M_bb − Σ_m m·w_m·w_mᵀ, kg
+    (assembly/local_modes.py; zero without local modes)"""
+    load: np.ndarray
+    """(n_s, 2) work: the force on each outline at the last contact evaluation (x, y), N"""
+    last_event: np.ndarray
+    """(n_s,) int64 work: the row of each body's latest impact in the log (−1: none yet)"""
+    shear_peak: np.ndarray
+    """(n_rows, 14) per impact (row of the log): |R|, t, the bundle's end shears at the foot (x, y)
+    and top (x, y), N, global, its end moments' magnitudes (foot, top), N·m, and the floors'
+    (u_x, u_y, θ) below and above, at the step where the larger end shear peaked (storey_bodies.track_column_shears; rows of scenes without local
+    modes: none)"""
 
 
 class Contact(NamedTuple):

@@ -150,7 +150,7 @@ def _sleepers_step(t, h, lev, level, structure, ground, motion, work, exact, pea
     n = awake.n_sleepers[0]
     acc = motion.energy
     propagate(t, h, motion.u, exact.v, lev.phi[level], lev.g0[level], lev.g1[level], lev.mean_rows[level],
-              lev.damping_form[level], awake.sleepers, n, structure.dof_start, structure.dof_count, structure.mass,
+              lev.damping_form[level], awake.sleepers, n, structure.dof_start, structure.dof_count, structure.ground_mass,
               ground, exact.x, exact.y, acc)  # fmt: skip
     acc[ACC_INPUT] += acc[ACC_STEP_INPUT]
     acc[ACC_DAMPING] += acc[ACC_STEP_DAMPING]
@@ -222,7 +222,7 @@ def rebalance(t, horizon, step, structure, ground, motion, work, exact, peaks, c
             p_in = 0.0
             p_damp = 0.0
             for d in range(3 * f0, 3 * f1, 3):
-                p_in -= mass[d] * (agx * v[d] + agy * v[d + 1])
+                p_in -= structure.ground_mass[d] * (agx * v[d] + agy * v[d + 1])
             for d in range(3 * f0, 3 * f1):
                 p_damp += v[d] * cv[d]
             acc[ACC_P_INPUT] -= p_in
