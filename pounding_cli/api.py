@@ -528,7 +528,12 @@ def where_it_failed(system: System, dof: int) -> str:
     floor = dof // 3
     b = int(np.searchsorted(system.floor_start, floor, side="right")) - 1
     level = floor - int(system.floor_start[b]) + 1
-    return f"first at building {system.buildings[b].name!r}, floor {level} ({('u_x', 'u_y', 'θ')[dof % 3]})"
+    axis = ("u_x", "u_y", "θ")[dof % 3]
+    if system.mode_floor is not None and floor in system.mode_floor:  # a struck bundle's local mode
+        mode = system.local_modes[int(np.flatnonzero(system.mode_floor == floor)[0])]
+        return (f"first at building {system.buildings[b].name!r}, local mode {mode.number} of the columns struck in "
+                f"storey {mode.storey} ({axis})")  # fmt: skip
+    return f"first at building {system.buildings[b].name!r}, floor {level} ({axis})"
 
 
 def execute(

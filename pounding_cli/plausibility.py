@@ -105,6 +105,34 @@ def _si(value: float, unit: str) -> str:
 
 # --- the checks ---------------------------------------------------------------------------
 
+DENSITY_RANGE = (300.0, 20000.0)
+"""Mass density, kg/m³: structural materials lie within (timber 400–700, concrete 2,300–2,500,
+steel 7,850)."""
+
+
+def density(scene: "Scene") -> Iterator[Notice]:
+    """A column material's density outside 300–20,000 kg/m³, with the unit it was most likely
+    typed in (t/m³ or g/cm³; a unit weight in kN/m³). It gives the struck columns their mass."""
+    lo, hi = DENSITY_RANGE
+    for name, material in scene.loaded.model.materials.items():
+        rho = material.density
+        if rho is None or lo <= rho <= hi:
+            continue
+        if rho > hi:
+            likely = "; check its unit (kg/m³) for an extra factor of 1000"
+        elif lo <= rho * 1000 <= hi:
+            likely = f"; it looks like t/m³ (g/cm³) typed as kg/m³: write density = {rho * 1000:.4g}"
+        elif lo <= rho * 1000 / 9.81 <= hi:
+            likely = (f"; it looks like a unit weight in kN/m³ ({rho:g} kN/m³ is {rho * 1000 / 9.81:.4g} kg/m³: "
+                      f"write density = {rho * 1000 / 9.81:.4g})")  # fmt: skip
+        else:
+            likely = ""
+        yield Notice(str(scene.loaded.source), f"materials.{name}.density", (
+            f"ρ = {rho:g} kg/m³ is outside 300–20,000 kg/m³, where structural materials lie (timber 400–700, "
+            f"concrete 2,300–2,500, steel 7,850){likely}"
+        ))  # fmt: skip
+
+
 # units a modulus is often typed in by mistake, with their size in Pa: the first that brings
 # the value into E_RANGE is the likely one
 _E_UNITS = (("GPa", 1e9), ("MPa", 1e6), ("kN/m² (kPa)", 1e3))
@@ -307,6 +335,7 @@ def _record_origin(scene: "Scene") -> tuple[str, str]:
 
 CHECKS: list[Check] = [
     elastic_modulus,
+    density,
     floor_mass,
     storey_height,
     fundamental_period,

@@ -196,3 +196,14 @@ def test_the_hybrid_meets_the_cdm_through_impacts(tmp_path) -> None:
         assert np.max(np.abs(hybrid[name][:20] / cdm[name][:20] - 1)) <= 1e-5, name
     for r in runs:
         assert r.diagnostics["balance_error_ratio"] <= 1e-6
+
+
+def test_a_failure_in_a_local_mode_is_named_as_one(tmp_path) -> None:
+    from pounding_cli.api import prepare, where_it_failed
+    from pounding_cli.model import validate_model
+
+    system = prepare(validate_model(_scene(tmp_path), tmp_path / "m.toml")).system
+    mode = system.local_modes[1]
+    text = where_it_failed(system, 3 * int(system.mode_floor[1]) + 1)
+    assert text == f"first at building 'A', local mode {mode.number} of the columns struck in storey 2 (u_y)"
+    assert where_it_failed(system, 3) == "first at building 'A', floor 2 (u_x)"

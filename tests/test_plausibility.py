@@ -60,6 +60,21 @@ def test_elastic_modulus_of_25000_gives_the_long_period_warning_too() -> None:
     assert "beyond the 0.02–6 s" in found["buildings[0]"]
 
 
+@pytest.mark.parametrize(
+    "rho, likely",
+    [(2.5, "t/m³ (g/cm³) typed as kg/m³: write density = 2500"),
+     (25.0, "unit weight in kN/m³ (25 kN/m³ is 2548 kg/m³: write density = 2548)"),
+     (7.85e4, "extra factor of 1000")],
+)  # fmt: skip
+def test_density_outside_structural_materials_names_the_likely_unit(rho: float, likely: str) -> None:
+    doc = short(model_doc())
+    doc["materials"]["concrete"]["density"] = rho
+    message = fields_of(doc)["materials.concrete.density"]
+    assert "outside 300–20,000 kg/m³" in message and likely in message, message
+    doc["materials"]["concrete"]["density"] = 2400.0
+    assert "materials.concrete.density" not in fields_of(doc)
+
+
 def test_elastic_modulus_above_1_tpa() -> None:
     doc = short(model_doc())
     doc["materials"]["concrete"]["elastic_modulus"] = 2.1e13 / 10
