@@ -183,11 +183,15 @@ def _damping_product(v, kv, mass, damping, d0, d1, out):
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
-def solve_blocks(binv, dof_start, dof_count, r, out):
-    """out = blockdiag(B⁻¹)·r, one dense block per building."""
+def solve_blocks(binv, dof_start, dof_count, dof_real, r, out):
+    """out = blockdiag(B⁻¹)·r, one dense block per building; a building with local modes
+    (dof_real < dof_count) by its factored form (_solve_reduced; its rows of r are overwritten)."""
     for b in range(dof_start.size):
         d0 = dof_start[b]
         n = dof_count[b]
+        if dof_real[b] < n:
+            _solve_reduced(binv, b, d0, n, dof_real[b], r, out)
+            continue
         for i in range(n):
             acc = 0.0
             for j in range(n):
@@ -196,18 +200,52 @@ def solve_blocks(binv, dof_start, dof_count, r, out):
 
 
 @kernel(fastmath=REASSOCIATE, **INTERNAL)
-def solve_listed(binv, dof_start, dof_count, blocks, n_blocks, r, out):
+def solve_listed(binv, dof_start, dof_count, dof_real, blocks, n_blocks, r, out):
     """solve_blocks for the buildings blocks[0 … n_blocks − 1] alone (written out: shared
     through an inlined body, the CDM step of two buildings measured 6-10 % slower)."""
     for k in range(n_blocks):
         b = blocks[k]
         d0 = dof_start[b]
         n = dof_count[b]
+        if dof_real[b] < n:
+            _solve_reduced(binv, b, d0, n, dof_real[b], r, out)
+            continue
         for i in range(n):
             acc = 0.0
             for j in range(n):
                 acc += binv[b, i, j] * r[d0 + j]
             out[d0 + i] = acc
+
+
+@kernel(fastmath=REASSOCIATE, inline="always")
+def _solve_reduced(binv, b, d0, n, nr, r, out):
+    """B·x = r for a building whose DOFs nr … n − 1 are its struck columns' local modes
+    (pseudo-floors, assembly/local_modes.py), by the Schur complement on its own floors: B_pp is
+    block-diagonal (3 × 3 per pseudo-floor: a mode is linked to the floors alone), so with
+    binv[b] = [[S⁻¹, B_rp], [G, B_pp⁻¹]] (G = B_pp⁻¹·B_pr, S = B_rr − B_rp·G;
+    integrate.step_matrices) y = B_pp⁻¹·r_p, x_r = S⁻¹·(r_r − B_rp·y), x_p = y − G·x_r:
+    n_r² + 2·n_r·n_p + 3·n_p products instead of n². r_r is overwritten."""
+    for j in range(nr, n, 3):
+        for i in range(3):
+            acc = 0.0
+            for c in range(3):
+                acc += binv[b, j + i, j + c] * r[d0 + j + c]
+            out[d0 + j + i] = acc
+    for i in range(nr):
+        acc = r[d0 + i]
+        for j in range(nr, n):
+            acc -= binv[b, i, j] * out[d0 + j]
+        r[d0 + i] = acc
+    for i in range(nr):
+        acc = 0.0
+        for k in range(nr):
+            acc += binv[b, i, k] * r[d0 + k]
+        out[d0 + i] = acc
+    for j in range(nr, n):
+        acc = out[d0 + j]
+        for k in range(nr):
+            acc -= binv[b, j, k] * out[d0 + k]
+        out[d0 + j] = acc
 
 
 @kernel(inline="always")
@@ -303,7 +341,8 @@ def _velocity_update_awake(agx, agy, step, structure, motion, work, fc, awake):
             r[d + 1] = -ground_mass[d + 1] * agy - ku[d + 1] - cv_half[d + 1] + fc[d + 1]
             r[d + 2] = -ku[d + 2] - cv_half[d + 2] + fc[d + 2]
     for i in range(awake.n_runs[0]):
-        solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.buildings[runs[i, 6]:],
+        solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.dof_real,
+                     structure.buildings[runs[i, 6]:],
                      runs[i, 7] - runs[i, 6], r, dv)  # fmt: skip
     for i in range(awake.n_runs[0]):
         d0 = 3 * runs[i, 0]
@@ -398,7 +437,7 @@ def _velocity_update(agx, agy, step, structure, motion, work, fc, g):
         r[d] = -ground_mass[d] * agx - ku[d] + g[d] - cv_half[d] + fc[d]
         r[d + 1] = -ground_mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1] + fc[d + 1]
         r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2] + fc[d + 2]
-    solve_blocks(step.inverse, structure.dof_start, structure.dof_count, r, dv)
+    solve_blocks(step.inverse, structure.dof_start, structure.dof_count, structure.dof_real, r, dv)
     for d in range(n_dof):
         v[d] = v_half[d] + 0.5 * dv[d]
         a_abs[d] = dv[d] / step.dt

@@ -252,7 +252,7 @@ def leave_cdm(t, step, structure, ground, propagators, exact, motion, work, yiel
     deflections."""
     if yielding.plastic.shape[0] > 0:
         plastic_correction(yielding.law, yielding.plastic, yielding.g)
-        solve_listed(propagators.k_inverse, structure.dof_start, structure.dof_count, structure.buildings,
+        solve_listed(propagators.k_inverse, structure.dof_start, structure.dof_count, structure.dof_count, structure.buildings,
                      structure.buildings.size, yielding.g, exact.u_static)  # fmt: skip
     agx, agy = ground_at(t, ground)
     runs = awake.runs
@@ -281,7 +281,8 @@ def cdm_state_at(agx, agy, step, structure, motion, work, exact, g, f0, f1, b0, 
         r[d] = -structure.ground_mass[d] * agx - ku[d] + g[d] - cv_half[d]
         r[d + 1] = -structure.ground_mass[d + 1] * agy - ku[d + 1] + g[d + 1] - cv_half[d + 1]
         r[d + 2] = -ku[d + 2] + g[d + 2] - cv_half[d + 2]
-    solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.buildings[b0:], b1 - b0, r, dv)
+    solve_listed(step.inverse, structure.dof_start, structure.dof_count, structure.dof_real, structure.buildings[b0:],
+                 b1 - b0, r, dv)
     for d in range(d0, d1):
         v_exact[d] = v_half[d] + 0.5 * dv[d]
     storey_matvec_range(v_exact, structure.storey_k, structure.storey_bottom, structure.storey_top, f0, f1, exact.kv)

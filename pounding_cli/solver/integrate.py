@@ -336,10 +336,39 @@ def step_matrices(structure: StructureArrays, dt: float) -> tuple[np.ndarray, np
     starts, counts = building_dofs(structure)
     n_max = int(counts.max())
     binv = np.zeros((starts.size, n_max, n_max))
-    for b, (d0, n, c) in enumerate(zip(starts, counts, damping_blocks(structure))):
+    for b, (d0, n, nr, c) in enumerate(zip(starts, counts, real_dofs(structure, counts), damping_blocks(structure))):
         m = structure.mass[d0 : d0 + n]
-        binv[b, :n, :n] = np.linalg.inv(np.diag(m / dt) + c / 2)
+        binv[b, :n, :n] = _factored(np.diag(m / dt) + c / 2, int(nr)) if nr < n else np.linalg.inv(np.diag(m / dt) + c / 2)
     return binv, starts, counts
+
+
+def real_dofs(structure: StructureArrays, counts: np.ndarray) -> np.ndarray:
+    """(n_buildings,) the DOFs of each building's own floors (System.real_floors; all of them
+    where it has no local modes)."""
+    buildings = getattr(structure, "buildings", None)
+    if not getattr(structure, "local_modes", ()) or buildings is None:
+        return np.asarray(counts, dtype=np.int64)
+    return np.array([3 * b.n_floors for b in buildings], dtype=np.int64)
+
+
+def _factored(b: np.ndarray, nr: int) -> np.ndarray:
+    """[[S⁻¹, B_rp], [G, B_pp⁻¹]] of B with its DOFs nr… the local modes' (cdm._solve_reduced):
+    S = B_rr − B_rp·G, G = B_pp⁻¹·B_pr, B_pp⁻¹ by 3 × 3 blocks."""
+    n = b.shape[0]
+    bpp_inv = np.zeros((n - nr, n - nr))
+    blocks = np.zeros_like(bpp_inv)
+    for j in range(0, n - nr, 3):
+        blocks[j : j + 3, j : j + 3] = b[nr + j : nr + j + 3, nr + j : nr + j + 3]
+        bpp_inv[j : j + 3, j : j + 3] = np.linalg.inv(blocks[j : j + 3, j : j + 3])
+    if not np.array_equal(blocks, b[nr:, nr:]):
+        raise ValueError("the local modes' block of M/Δt + C/2 is not block-diagonal: a mode linked to another")
+    g = bpp_inv @ b[nr:, :nr]
+    out = np.zeros_like(b)
+    out[:nr, :nr] = np.linalg.inv(b[:nr, :nr] - b[:nr, nr:] @ g)
+    out[:nr, nr:] = b[:nr, nr:]
+    out[nr:, :nr] = g
+    out[nr:, nr:] = bpp_inv
+    return out
 
 
 def peak_geometry(structure: StructureArrays) -> tuple[np.ndarray, np.ndarray]:
@@ -411,7 +440,8 @@ def simulate(
     iota = influence_of(structure)
     structure_rec = Structure(structure.mass, damping_arrays(structure), storey_k, storey_bottom, storey_top, starts,
                               counts, structure.storey_axes, centre, structure.column_storey, col_arm,
-                              np.arange(starts.size, dtype=np.int64), iota, structure.mass * iota)  # fmt: skip
+                              np.arange(starts.size, dtype=np.int64), iota, structure.mass * iota,
+                              real_dofs(structure, counts))  # fmt: skip
     ground_rec = Ground(ground, ground_dt)
     # classical CDM start: v_{-1/2} = v_0 − Δt/2·a_0 with M·a_0 = −M·ι·a_g(0) − C·v_0
     v0 = np.zeros(n_dof + 3)

@@ -77,6 +77,9 @@ class Structure(NamedTuple):
     it (1 on the floors' u_x, u_y, 0 on θ; Σw on a struck column's local mode, assembly/local_modes.py)"""
     ground_mass: np.ndarray
     """(n_dof,) M·ι, kg: the masses the ground drives (p = −M·ι·a_g)"""
+    dof_real: np.ndarray
+    """(n_buildings,) DOFs of each building's own floors (its local modes' pseudo-floors follow
+    them up to dof_count; CdmStep.inverse holds the factored form there, cdm._solve_reduced)"""
 
 
 class Ground(NamedTuple):
@@ -94,7 +97,8 @@ class CdmStep(NamedTuple):
     dt: float
     """the step, s"""
     inverse: np.ndarray
-    """(n_buildings, n_max, n_max) B⁻¹ = (M/Δt + C/2)⁻¹ per building, padded"""
+    """(n_buildings, n_max, n_max) B⁻¹ = (M/Δt + C/2)⁻¹ per building, padded (a building with
+    local modes: its Schur complement's factors, integrate.step_matrices)"""
     per_output: int
     """steps per output sample"""
     per_substep: int
