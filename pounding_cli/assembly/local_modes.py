@@ -28,7 +28,8 @@ and the plan stiffness (β_k⁴/12)·ΣK_i (exact where the columns share ρA/EI
 otherwise the bundle's, as their massless flexibilities are added). The bundle moves with the
 floors at its own plan point (the columns' stiffness-weighted centre): floor b's (u_x, u_y, θ)
 moves it by T_b·u_b = (u_x − θ·r_y, u_y + θ·r_x), r the point from floor b's mass centre. A
-pseudo-floor's third DOF is inert (a rotation no force reaches, at the mode's frequency).
+pseudo-floor's third DOF is inert (a rotation no force reaches, at the mode's frequency, with
+Rayleigh's damping: it never moves).
 
 The modes are damped at the building's first damping ratio (a dashpot 2ζ·ω_k·m on y_k − w_k·u,
 in place of what Rayleigh's a1·K would give them, ζ = a1·ω_k/2: overdamped for ω_k of
@@ -312,11 +313,10 @@ def with_local_modes(system, contact, loaded):
             e = np.zeros((2, 9))
             e[:, :6] = -m.placement(None if m.below < 0 else np.zeros(2)) * np.repeat(m.weights, 3)
             e[:, 6:8] = np.eye(2)
-            # the mode's own dashpot in place of Rayleigh's a1·K on it (and on the inert rotation)
-            dashpots += _as_links(e.T @ mode_dashpot(m) @ e - a1[3 * p] * spring, below, above, p)
-            inert = np.zeros((6, 6))
-            inert[5, 5] = -a1[3 * p] * storey_k[p, 5, 5]
-            dashpots.append((-1, p, inert))
+            # the mode's own dashpot in place of Rayleigh's a1·K on it (none where both are zero; the
+            # inert rotation keeps a1·k_θ: nothing moves it)
+            dashpots += [link for link in _as_links(e.T @ mode_dashpot(m) @ e - a1[3 * p] * spring, below, above, p)
+                         if np.any(link[2])]  # fmt: skip
     bad = np.flatnonzero(mass[0::3] <= 0.0)
     if bad.size:
         raise InputError(
