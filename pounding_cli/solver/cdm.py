@@ -217,7 +217,7 @@ def solve_listed(binv, dof_start, dof_count, dof_real, blocks, n_blocks, r, out)
             out[d0 + i] = acc
 
 
-@kernel(fastmath=REASSOCIATE, inline="always")
+@kernel(fastmath=REASSOCIATE, **INTERNAL)
 def _solve_reduced(binv, b, d0, n, nr, r, out):
     """B·x = r for a building whose DOFs nr … n − 1 are its struck columns' local modes
     (pseudo-floors, assembly/local_modes.py), by the Schur complement on its own floors: B_pp is
