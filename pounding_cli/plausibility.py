@@ -310,6 +310,28 @@ def unmet_neighbours(scene: "Scene") -> Iterator[Notice]:
             "base_elevation and storey heights"))  # fmt: skip
 
 
+def shared_struck_columns(scene: "Scene") -> Iterator[Notice]:
+    """Columns of one storey in two struck bundles (two slabs strike overlapping sets of its
+    columns): each bundle has local modes of its own, so those columns' mass is in both
+    (assembly/local_modes.py)."""
+    seen: dict[tuple[int, int, int], tuple[int, ...]] = {}
+    said = set()
+    system = scene.system
+    for mode in system.local_modes:
+        for column in mode.columns:
+            key = (mode.building, mode.storey, column)
+            other = seen.setdefault(key, mode.columns)
+            if other != mode.columns and key not in said:
+                said.add(key)
+                bld = system.buildings[mode.building]
+                name = bld.column_lines[bld.columns[column].line].name
+                yield Notice(str(scene.loaded.source), f"buildings[{mode.building}]", (
+                    f"column {name} of storey {mode.storey} of building {bld.name!r} is struck by two slabs with "
+                    "different columns beside it: each set has local modes of its own, so its mass is counted in "
+                    "both (theory §10, \"The struck columns' own mass\"); the impact forces and shears there are "
+                    "approximate"))  # fmt: skip
+
+
 def _times(ratio: float) -> str:
     """'1,000', '250', '3.2e+07': a ratio above 1 as a reader says it."""
     return f"{ratio:,.0f}" if 10 <= ratio < 1e6 else f"{ratio:.3g}"
@@ -343,5 +365,6 @@ CHECKS: list[Check] = [
     vertical_component,
     impact_stiffness,
     unmet_neighbours,
+    shared_struck_columns,
 ]
 """The checks, in the order their notices are reported; append one to add a check."""

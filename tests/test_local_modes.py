@@ -236,3 +236,44 @@ def test_the_factored_solve_is_the_dense_one() -> None:
     out = np.zeros(n)
     solve(_factored(b, nr)[None], np.array([0]), np.array([n]), np.array([nr]), r.copy(), out)
     assert np.allclose(out, np.linalg.solve(b, r), rtol=0, atol=1e-12 * np.abs(x).max())
+
+
+def test_columns_struck_by_two_slabs_in_two_sets_are_warned_of(tmp_path) -> None:
+    """A second strip B2 strikes A's façade between two columns (y 0.5–1.5 m: the columns at
+    y = 0 and 4 m take it), B the column at y = 4 m alone: that column is in two bundles with
+    modes of their own, and its mass in both: a warning names it."""
+    from pounding_cli.plausibility import notices
+    from pounding_cli.api import prepare
+    from pounding_cli.model import validate_model
+
+    doc = _scene(tmp_path)
+    b2 = copy.deepcopy(doc["buildings"][1])
+    b2["name"] = "B2"
+    b2["origin"] = [b2["origin"][0], 0.5]
+    doc["buildings"].append(b2)
+    scene = prepare(validate_model(doc, tmp_path / "m.toml"))
+    bundles = {m.columns for m in scene.system.local_modes}
+    assert len(bundles) == 2 and len(set.intersection(*map(set, bundles))) == 1
+    found = [n for n in notices(scene) if "struck by two slabs" in n.message]
+    assert len(found) == 1 and "storey 2 of building 'A'" in found[0].message
+    single = prepare(validate_model(_scene(tmp_path), tmp_path / "one.toml"))
+    assert not [n for n in notices(single) if "struck by two slabs" in n.message]
+
+
+def test_floors_lighter_than_the_mass_the_modes_take_are_refused(tmp_path) -> None:
+    """Floors of 400 kg beside 1,072 kg columns (the floors' masses must include their columns',
+    half of each): the modes would take more than the floor has; pound validate exits 2 naming
+    the file and the field."""
+    import json
+    import subprocess
+    import sys
+
+    doc = _scene(tmp_path)
+    for floor in doc["buildings"][0]["floors"]:
+        floor["mass"] = 400.0
+    path = tmp_path / "light.json"
+    path.write_text(json.dumps(doc))
+    proc = subprocess.run([sys.executable, "-m", "pounding_cli", "validate", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert "light.json" in proc.stderr and "contact.column_modes" in proc.stderr
+    assert "take more mass (or rotational inertia) from its floor" in proc.stderr

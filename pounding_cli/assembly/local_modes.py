@@ -317,11 +317,13 @@ def with_local_modes(system, contact, loaded):
             # inert rotation keeps a1·k_θ: nothing moves it)
             dashpots += [link for link in _as_links(e.T @ mode_dashpot(m) @ e - a1[3 * p] * spring, below, above, p)
                          if np.any(link[2])]  # fmt: skip
-    bad = np.flatnonzero(mass[0::3] <= 0.0)
+    bad = np.flatnonzero((mass[0::3] <= 0.0) | (mass[2::3] <= 0.0))
     if bad.size:
+        b = int(np.searchsorted(start, bad[0], side="right")) - 1
         raise InputError(
-            f"the local modes of the struck columns take more mass from floor {int(bad[0])} than it has; the "
-            "floors' masses must include their columns' (check the columns' density, kg/m³)",
+            f"the local modes of the columns struck in building {buildings[b].name!r} take more mass (or rotational "
+            f"inertia) from its floor {int(bad[0] - start[b]) + 1} than the floor has; the floors' masses must include "
+            "their columns' (check the columns' density, kg/m³)",
             file=str(loaded.source),
             field="contact.column_modes",
         )
