@@ -168,7 +168,9 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays],
         inertias.append(np.inf)
     # the storeys that slabs strike between a neighbour's floors: bodies after the obstacles
     crossings = storey_crossings(buildings, moat_pits(model), near) if contact.enabled else []
-    storeys = [storey_body(buildings, c, contact.column_modes) for c in crossings]
+    materials_of: dict[str, Material] = {}  # per body, found once (a building's walks every column)
+    storeys = [storey_body(buildings, c, contact.column_modes, _crossing_kn(loaded, buildings, c, contact, materials_of))
+               for c in crossings]  # fmt: skip
     first_floor = np.concatenate([[0], np.cumsum([b.n_floors for b in buildings])]).astype(np.int64)
     storey_bodies = len(polys)
     for k, body in enumerate(storeys):
@@ -211,7 +213,6 @@ def contact_arrays(loaded: LoadedModel, buildings: list[BuildingArrays],
     # each pair's settings: [contact]'s, with an obstacle's (or moat wall's) own in their place
     settings = [obstacles[j - n_floors].applied_to(contact) if n_floors <= j < storey_bodies else contact
                 for _, j, _ in candidates]  # fmt: skip
-    materials_of: dict[str, Material] = {}  # per body, found once (a building's walks every column)
     k_pairs = [_pair_stiffness(loaded, info, s, materials_of) for s, (_, _, info) in zip(settings, candidates)]
     # two slabs at neighbouring levels, each between the other's floors, strike each other's storeys at
     # one interface: each contact takes half its law (k_N, k_T and the dashpots; ζ/√2 halves 2ζ√(k_N·L·m)),
@@ -401,6 +402,16 @@ def _pair_stiffness(loaded: LoadedModel, info: PairInfo, settings: Contact,
             cache[name] = _body_material(loaded, name)
     auto_n, auto_t = impact_stiffness(cache[info.body_a], cache[info.body_b])
     return (auto_n if kn == "auto" else float(kn)), (auto_t if kt == "auto" else float(kt))
+
+
+def _crossing_kn(loaded: LoadedModel, buildings: list[BuildingArrays], c: StoreyCrossing, contact: Contact,
+                 materials_of: dict[str, Material]) -> float:  # fmt: skip
+    """k_N of a slab–storey crossing's pair (N/m²), for column_modes = "auto" (0 where it needs none)."""
+    if contact.column_modes != "auto" or not contact.enabled:
+        return 0.0
+    info = PairInfo(buildings[c.building].name, c.floor + 1, buildings[c.struck].name, c.storey, c.elevation, c.storey,
+                    c.xi)  # fmt: skip
+    return _pair_stiffness(loaded, info, contact, materials_of)[0]
 
 
 def _body_material(loaded: LoadedModel, name: str) -> Material:

@@ -45,6 +45,14 @@ import numpy as np
 
 from .storey_contact import storey_shape
 
+AUTO_RATIO = 8.0
+"""column_modes = "auto": the highest mode's frequency on fixed floors over the contact's own
+against the columns' mass, √(k_N·L/m). The FE comparison of tests/test_local_modes_fe.py (a
+1 m contact line): the first impact's peak force is 7.6 % off at 3.9× (8 modes), 0.34 % at 8.4×
+(12) and 0.18 % at 14.7× (16)."""
+
+MAX_MODES = 16
+
 INERT_RADIUS = 1.0
 """m: the radius of gyration that gives a pseudo-floor's inert rotation its inertia m·r²."""
 
@@ -153,6 +161,17 @@ def bundle_modes(struck, building: int, storey: int, columns: tuple[int, ...], n
     return [LocalMode(building, storey, below, above, k, tuple(columns), float(mass),
                       clamped_beta(k) ** 4 / 12.0 * k_plan, storey_weights(k), arm_below, point_above, damping_ratio)
             for k in range(1, n_modes + 1)]  # fmt: skip
+
+
+def auto_modes(face_stiffness: float, column_stiffness: float, mass: float) -> int:
+    """The fewest local modes (1 … MAX_MODES) whose highest, √((β_k⁴/12)·K/m), reaches AUTO_RATIO
+    times the contact's own frequency √(k_c/m): face_stiffness k_c = k_N·L (N/m), column_stiffness
+    K the struck columns' summed 12EI/h³ along the façade's normal (N/m), mass theirs (kg)."""
+    target = AUTO_RATIO**2 * face_stiffness
+    for k in range(1, MAX_MODES + 1):
+        if clamped_beta(k) ** 4 / 12.0 * column_stiffness >= target:
+            return k
+    return MAX_MODES
 
 
 def outline_weights(k: int, xi: float) -> float:

@@ -134,12 +134,14 @@ def struck_columns(struck: BuildingArrays, storey: int, p: np.ndarray, q: np.nda
     return tuple(sorted(min(side)[1] for side in (left, right) if side))
 
 
-def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, column_modes: int = 0) -> StoreyBody:
+def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, column_modes: int | str = 0,
+                k_normal: float = 0.0) -> StoreyBody:  # fmt: skip
     """The storey body of a slab–storey crossing: its kinematic weights, the struck façade and
     columns, and their point-load compliances at ξ; where the columns have mass and
-    column_modes > 0, their first local modes move the outline (local_modes.py) and only the
-    flexibility those leave out stays in the compliances."""
-    from .local_modes import residual_fraction
+    column_modes > 0 (or "auto": local_modes.auto_modes for the face stiffness k_normal·L, k_normal
+    in N/m²), their first local modes move the outline (local_modes.py) and only the flexibility
+    those leave out stays in the compliances."""
+    from .local_modes import auto_modes, residual_fraction
 
     slab = buildings[crossing.building].slabs[crossing.floor]
     struck = buildings[crossing.struck]
@@ -156,7 +158,9 @@ def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, colum
     k_t = sum(float(e @ struck.columns[i].plan_stiffness @ e) for i in columns) / factor
     arm = struck.mass_centre[above] - struck.mass_centre[below] if below >= 0 else np.zeros(2)
     mass = float(sum(struck.columns[i].mass for i in columns))
-    modes = column_modes if mass > 0 else 0
+    if column_modes == "auto":
+        column_modes = auto_modes(k_normal * line, k_n * factor, mass) if mass > 0 and k_n > 0 else 0
+    modes = int(column_modes) if mass > 0 else 0
     kept = residual_fraction(crossing.xi, modes)
     return StoreyBody(crossing, below, above, storey_shape(crossing.xi), arm, normal, line, columns,
                       kept / k_n if k_n > 0 else 0.0, kept / k_t if k_t > 0 else 0.0, modes, mass)  # fmt: skip
