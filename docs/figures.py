@@ -328,6 +328,19 @@ def local_modes_fe_table() -> str:
         return table(Path(folder))
 
 
+@registered("local-modes-elements-table")
+def local_modes_elements_table() -> str:
+    """pound with 12 local modes against the frame meshed with 16, 32 and 64 elements
+    (tests/test_local_modes_fe.py: element_table), run here."""
+    import tempfile
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_local_modes_fe import element_table
+
+    with tempfile.TemporaryDirectory() as folder:
+        return element_table(Path(folder))
+
+
 @registered("column-mass-study")
 def column_mass_study() -> str:
     """The struck column's own mass: the reduced models' largest errors against the FE frame
