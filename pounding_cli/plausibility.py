@@ -332,6 +332,35 @@ def shared_struck_columns(scene: "Scene") -> Iterator[Notice]:
                     "approximate"))  # fmt: skip
 
 
+def column_modes_capped(scene: "Scene") -> Iterator[Notice]:
+    """column_modes = "auto" held at its cap of 16 for a struck set of columns whose contact
+    would need more (local_modes.auto_modes): its first peak force and shear are then less
+    accurate than the validation report's figures for the rule."""
+    from .assembly.contact import _crossing_kn
+    from .assembly.local_modes import AUTO_RATIO, MAX_MODES, clamped_beta
+
+    contact = scene.loaded.model.contact
+    if contact.column_modes != "auto":
+        return
+    buildings = scene.system.buildings
+    said = set()
+    for body in scene.contact.storeys:
+        if body.modes != MAX_MODES:
+            continue
+        k_face = _crossing_kn(scene.loaded, buildings, body.crossing, contact, {}) * body.line
+        struck = buildings[body.crossing.struck]
+        k_columns = sum(float(body.normal @ struck.columns[i].plan_stiffness @ body.normal) for i in body.columns)
+        ratio = float(np.sqrt(clamped_beta(MAX_MODES) ** 4 / 12.0 * k_columns / k_face)) if k_face > 0 else np.inf
+        key = (body.crossing.struck, body.crossing.storey, body.columns)
+        if ratio < AUTO_RATIO and key not in said:
+            said.add(key)
+            yield Notice(str(scene.loaded.source), "contact.column_modes", (
+                f"the columns struck in storey {body.crossing.storey} of building {buildings[body.crossing.struck].name!r} "
+                f"would need more than {MAX_MODES} local modes for their contact (the highest reaches {ratio:.2g} times "
+                f"the contact's own frequency, the rule asks {AUTO_RATIO:g}): their impacts' first peak force and "
+                "shear are less accurate than the validation report's figures for the rule"))  # fmt: skip
+
+
 def _times(ratio: float) -> str:
     """'1,000', '250', '3.2e+07': a ratio above 1 as a reader says it."""
     return f"{ratio:,.0f}" if 10 <= ratio < 1e6 else f"{ratio:.3g}"
@@ -366,5 +395,6 @@ CHECKS: list[Check] = [
     impact_stiffness,
     unmet_neighbours,
     shared_struck_columns,
+    column_modes_capped,
 ]
 """The checks, in the order their notices are reported; append one to add a check."""

@@ -297,3 +297,21 @@ def test_auto_takes_the_modes_up_to_eight_times_the_contacts_frequency(tmp_path)
     omegas = [np.sqrt(clamped_beta(k) ** 4 * T.E * T.I / T.H**3 / mass) for k in (11, 12)]
     assert omegas[0] < 8 * omega_c <= omegas[1]
     assert system.local_modes[-1].omega == pytest.approx(omegas[1], rel=1e-12)
+
+
+def test_auto_held_at_its_cap_is_warned_of(tmp_path) -> None:
+    """A contact 10 times stiffer (k_N given) would need more than 16 modes by the "auto" rule:
+    a warning on contact.column_modes says so; the FE scene's own contact (12 modes) none."""
+    from pounding_cli.api import prepare
+    from pounding_cli.model import validate_model
+    from pounding_cli.plausibility import notices
+
+    doc = _scene(tmp_path)
+    del doc["contact"]["column_modes"]
+    plain = prepare(validate_model(doc, tmp_path / "m.toml"))
+    assert not [n for n in notices(plain) if n.field == "contact.column_modes"]
+    doc["contact"]["k_normal"] = 10 * T.K_N
+    stiff = prepare(validate_model(doc, tmp_path / "stiff.toml"))
+    assert len(stiff.system.local_modes) == 16
+    (found,) = [n for n in notices(stiff) if n.field == "contact.column_modes"]
+    assert "would need more than 16 local modes" in found.message and "storey 2 of building 'A'" in found.message
