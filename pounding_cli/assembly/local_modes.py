@@ -124,23 +124,20 @@ class LocalMode:
         """The mode's largest circular frequency on fixed floors, rad/s."""
         return float(np.sqrt(np.linalg.eigvalsh(self.stiffness)[-1] / self.mass))
 
-    def placement(self, floor_centre_below: np.ndarray | None) -> np.ndarray:
-        """(2, 6) T: the bundle's point's motion from (u_below, u_above) (floors' own DOFs)."""
-        t = np.zeros((2, 6))
-        if floor_centre_below is not None:
-            t[:, :3] = [[1.0, 0.0, -self.arm_below[1]], [0.0, 1.0, self.arm_below[0]]]
-        t[:, 3:] = [[1.0, 0.0, -self.arm_above[1]], [0.0, 1.0, self.arm_above[0]]]
-        return t
+    def coupling(self) -> np.ndarray:
+        """(2, 9) E: the mode's coordinate q = y − w₀·T₀·u₀ − w₁·T₁·u₁ = E·(u_below, u_above,
+        pseudo-floor), T_b·u = (u_x − θ·r_y, u_y + θ·r_x) at the bundle's point (nothing from
+        the ground below a first storey; the pseudo-floor's inert rotation not in it)."""
+        e = np.zeros((2, 9))
+        if self.below >= 0:
+            e[:, :3] = -self.weights[0] * np.array([[1.0, 0.0, -self.arm_below[1]], [0.0, 1.0, self.arm_below[0]]])
+        e[:, 3:6] = -self.weights[1] * np.array([[1.0, 0.0, -self.arm_above[1]], [0.0, 1.0, self.arm_above[0]]])
+        e[:, 6:8] = np.eye(2)
+        return e
 
     def spring(self) -> np.ndarray:
-        """(9, 9) stiffness of the mode on (u_below, u_above, pseudo-floor): ½·(y − w·T·u)ᵀK_k(y − w·T·u)
-        (the pseudo-floor's inert rotation is not in it)."""
-        t = self.placement(None if self.below < 0 else np.zeros(2))
-        t[:, :3] *= self.weights[0]
-        t[:, 3:] *= self.weights[1]
-        e = np.zeros((2, 9))
-        e[:, :6] = -t
-        e[:, 6:8] = np.eye(2)
+        """(9, 9) stiffness of the mode on (u_below, u_above, pseudo-floor): ½·qᵀK_k·q = ½·xᵀEᵀK_kE·x."""
+        e = self.coupling()
         return e.T @ self.stiffness @ e
 
 
@@ -172,11 +169,6 @@ def auto_modes(face_stiffness: float, column_stiffness: float, mass: float) -> i
         if clamped_beta(k) ** 4 / 12.0 * column_stiffness >= target:
             return k
     return MAX_MODES
-
-
-def outline_weights(k: int, xi: float) -> float:
-    """φ_k(ξ): how far the struck outline at ξ moves per unit of mode k's coordinate."""
-    return float(clamped_mode(k, xi))
 
 
 def residual_fraction(xi: float, n_modes: int) -> float:
@@ -329,9 +321,7 @@ def with_local_modes(system, contact, loaded):
             storey_k[p, 5, 5] = m.mass * INERT_RADIUS**2 * m.omega**2  # the inert rotation, at the mode's ω
             spring = m.spring()
             links += _as_links(spring, below, above, p)
-            e = np.zeros((2, 9))
-            e[:, :6] = -m.placement(None if m.below < 0 else np.zeros(2)) * np.repeat(m.weights, 3)
-            e[:, 6:8] = np.eye(2)
+            e = m.coupling()
             # the mode's own dashpot in place of Rayleigh's a1·K on it (none where both are zero; the
             # inert rotation keeps a1·k_θ: nothing moves it)
             dashpots += [link for link in _as_links(e.T @ mode_dashpot(m) @ e - a1[3 * p] * spring, below, above, p)
@@ -374,7 +364,7 @@ def with_local_modes(system, contact, loaded):
     for body, key in zip(contact.storeys, body_bundle):
         for m in bundles.get(key, []) if key is not None else []:
             floors.append(mode_floor[id(m)])
-            phis.append(outline_weights(m.number, body.crossing.xi))
+            phis.append(float(clamped_mode(m.number, body.crossing.xi)))  # the outline's motion per unit of q
             weights.append(m.weights)
             arms.append(np.concatenate([m.arm_below, m.arm_above]))
             stiffness.append(m.stiffness)

@@ -103,10 +103,6 @@ class System:
         k = max(range(len(rates)), key=lambda i: rates[i][0] if rates[i][0] == rates[i][0] else np.inf)
         return rates[k][0], k, rates[k][1], rates[k][2]
 
-    def building_dofs(self, b: int) -> slice:
-        """DOF slice of building b."""
-        return slice(3 * int(self.floor_start[b]), 3 * int(self.floor_start[b + 1]))
-
 
 def assemble(loaded: LoadedModel) -> System:
     """Assemble every building of a validated model."""
