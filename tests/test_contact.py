@@ -287,19 +287,23 @@ def _shaken_along_a_wall(dt, c_t=0.0):
     return simulate(structure, ground, 1e-3, dt, round(1e-3 / dt), round(0.5 / dt), contact=contact)
 
 
-@pytest.mark.parametrize("c_t, least_order", [(0.0, 1.8), (5e4, 1.5), (5e5, 1.5), (2e6, 1.5)])
-def test_stick_slip_converges_at_second_order(c_t, least_order):
+@pytest.mark.parametrize("c_t", [0.0, 5e4, 5e5, 2e6])
+def test_stick_slip_converges_at_second_order(c_t):
     """Where stick gives way, F_T drops from μ_s·F_N to μ_k·F_N inside a step; the kernel
     gives that step's force the impulse of the drop where it happened (_kinetic_shortfall).
     Switching at the step's end instead misplaces an impulse (μ_s − μ_k)·F_N·Δt at every
     break-away, a first-order error. Against a run at Δt/128, the sliding displacement's
-    largest error falls as Δt² from Δt = 1e-4 to 6.25e-6 s: fitted order ≥ 1.8 (measured
-    2.0; 1.4 with the drop at the step’s end, and 30× larger errors) and ≤ 1e-4 of the
-    5 cm amplitude at the coarsest step (measured 4.3e-5). With a tangential dashpot beside
-    the spring, 2 %, 20 % and 79 % of the critical 2√(k_T·m) (docs/theory.md, "The tangential
-    dashpot": the spring relaxes while the contact slips, exactly over the part of the step the
-    slip took), order ≥ 1.5, above first order's 1 (measured 2.1, 1.6 and 2.0; ≤ 2.6e-6 m at the
-    coarsest step)."""
+    largest error from Δt = 1e-4 to 6.25e-6 s, without a tangential dashpot and with one
+    beside the spring, 2 %, 20 % and 79 % of the critical 2√(k_T·m) (docs/theory.md, "The
+    tangential dashpot": the spring relaxes while the contact slips, exactly over the part of
+    the step the slip took): it falls by more than 32 over the four halvings, twice what first
+    order gives (16; second gives 256: measured 270, 300, 63, 440, the third at the reference's
+    own error, 4e-9 m, from 1.25e-5 s on; with the drop at the step's end, order 1.4 and 30×
+    larger errors), and is within 2e-5 of the 5 cm amplitude at the coarsest step (measured
+    5.0e-7, 7.9e-7, 3.0e-7, 6.0e-7 m: 0.7–1.6e-5 of it; 2.2e-6 m
+    without a dashpot and up to 2.6e-6 m with one before the step's force became the hat's
+    average, contact.cell_correction). Without a dashpot, the fitted order ≥ 1.8 (measured
+    2.0); with one, the finer errors reach the reference's own (4e-9 m) and a fit means less."""
     reference = _shaken_along_a_wall(1e-4 / 128, c_t)
     fn, ft = (reference.contact[:, 0, k] for k in (kernel.NOW_FN, kernel.NOW_FT))
     slipping = np.isclose(np.abs(ft), 0.6 * fn, rtol=1e-9) & (fn > 0)
@@ -308,9 +312,11 @@ def test_stick_slip_converges_at_second_order(c_t, least_order):
     steps = 1e-4 / 2.0 ** np.arange(5)
     errors = [np.abs(_shaken_along_a_wall(dt, c_t).displacement[:, 1] - reference.displacement[:, 1]).max()
               for dt in steps]  # fmt: skip
-    order = np.polyfit(np.log(steps), np.log(errors), 1)[0]
-    assert order >= least_order, f"order {order:.2f}, errors {errors}"
-    assert errors[0] < 1e-4 * amplitude
+    assert errors[0] > 32 * errors[-1], errors
+    if c_t == 0.0:
+        order = np.polyfit(np.log(steps), np.log(errors), 1)[0]
+        assert order >= 1.8, f"order {order:.2f}, errors {errors}"
+    assert errors[0] < 2e-5 * amplitude
 
 
 def test_impact_log_keeps_the_contact_force_at_the_peak():

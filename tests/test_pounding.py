@@ -264,16 +264,18 @@ def test_a_tangential_dashpot_in_the_kobe_example_gives_out_no_energy_and_conver
 
 @pytest.mark.slow
 def test_the_papers_kobe_example_converges_smoothly():
-    """The paper's example under Kobe (both components, 150 s, friction, 21 impacts of slabs
+    """The paper's example under Kobe (both components, 150 s, friction, 25 impacts of slabs
     within a few µrad of parallel), the hybrid at its automatic step scaled by 1.2 … 0.8,
-    against the same at 1/8 of it: the peak deflections' error is second order and smooth in
-    the step, error/scale² within a factor 2.5 across the five (measured 1.4: 0.087, 0.070,
-    0.082, 0.064 and 0.041 %), and within the 0.5 % the issue asks at the default (measured
-    0.082 %). Before the kinks were integrated
-    point by point and friction's transitions placed within the step, each impact's result
-    jumped about with where it fell on the grid, and the example amplifies that (a 1e-4 change
-    of the record changes its peaks by 2 %): 0.20 % at the default, 1.34 % at 0.8 and 1.24 %
-    at 0.95."""
+    against the same at 1/8 of it: every peak deflection within 0.05 % (measured 0.025, 0.009,
+    0.034, 0.012 and 0.011 %; the 0.5 % the issue asks at the default). Before the kinks were
+    integrated point by point and friction's transitions placed within the step, each impact's
+    result jumped about with where it fell on the grid, and the example amplifies that (a 1e-4
+    change of the record changes its peaks by 2 %): 0.20 % at the default, 1.34 % at 0.8 and
+    1.24 % at 0.95. With them the error was smooth and second order in the step (0.087, 0.070,
+    0.082, 0.064 and 0.041 %). Since the step's force is the hat's average
+    (contact.cell_correction) the contact phase's own phase error is gone and the errors are
+    smaller than any of those, but a draw again: what remains of each impact's error (friction's
+    events, located on straight lines over the step) depends on where it falls."""
     from pounding_cli.api import execute, prepare
     from pounding_cli.bench.metrics import compare
     from pounding_cli.bench.run import Setting, with_setting
@@ -282,7 +284,5 @@ def test_the_papers_kobe_example_converges_smoothly():
     reference = execute(with_setting(base, Setting("reference", "hybrid", dt_scale=0.125)))
     error = {s: compare(execute(with_setting(base, Setting("x", "hybrid", dt_scale=s))), reference).peak_deflection
              for s in (1.2, 1.1, 1.0, 0.9, 0.8)}  # fmt: skip
-    per_step2 = [e / s**2 for s, e in error.items()]
-    print(", ".join(f"{s:g}: {100 * e:.3f} %" for s, e in error.items()), f"ratio {max(per_step2) / min(per_step2):.2f}")
-    assert max(per_step2) < 2.5 * min(per_step2), error
-    assert error[1.0] < 5e-3
+    print(", ".join(f"{s:g}: {100 * e:.3f} %" for s, e in error.items()))
+    assert max(error.values()) < 5e-4, error

@@ -118,7 +118,10 @@ ST_FN1, ST_FN2 = ST_REST + 6, ST_REST + 7
 # ST_EXCESS: the trial |F_T| over μ_k·F_N, N, and ST_VT: B's tangential velocity on A at c, m/s,
 # at the last step (where a slip ends between two steps: _tangential_force)
 ST_EXCESS, ST_VT = ST_REST + 8, ST_REST + 9
-N_STATE = ST_REST + 10
+# ST_RATE: the closing acceleration at c one step back, m/s², and ST_LAW_FN: the law's normal force
+# then, N (cell_correction)
+ST_RATE, ST_LAW_FN = ST_REST + 10, ST_REST + 11
+N_STATE = ST_REST + 12
 FRAME_VERTICES = RESULT_SIZE
 """Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
 
@@ -499,15 +502,45 @@ def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
         now[p, k] = 0.0
 
 
+@kernel(inline="always")
+def cell_correction(k_n, length, damping, closing_rate, closing_jerk, dt):
+    """What the central difference's step adds to the law's normal force at t_n, N, so that it
+    applies the force's average over the step's hat rather than its value at t_n.
+
+    The CDM's second difference weighs the force over t_n ± Δt by the hat 1 − |t − t_n|/Δt:
+    u_{n+1} − 2u_n + u_{n−1} = Δt²·M⁻¹·(F + (Δt²/12)·F̈ + O(Δt⁴)). Applying F(t_n) alone
+    leaves the contact's own vibration (ω² = k_N·ℓ/m) fast by (ω·Δt)²/24 of its frequency:
+    the contact ends early by that share of its duration, the leading error of the contact
+    phase (theory §10, "The force the step applies"). Each point of the contact line presses
+    with k_N times its depth, so between the points' kinks (where they touch or part: the
+    kink impulses) the spring's F̈ = k_N·ℓ·δ̈, ℓ the contact line (m), δ̈ the closing
+    acceleration at the action point (m/s²): the last step's, from its Δv, less the change of
+    this pair's normal force since over the pair's mass m (its own share of δ̈, which makes the
+    contact's vibration; the rest, the structure's, taken a step late). With the last step's
+    δ̈ alone the correction lags a step, an odd error of third order that breaks the leapfrog's
+    symmetry (an elastic rebound lost (ω·Δt)³/12 of its speed); extrapolated from the last two
+    steps' Δv it doubled the kink impulses those carry. The dashpot c·δ̇ reads the closing speed
+    from v_{n−½} + Δv_{n−1}/2, which falls short of δ̇(t_n) by Δt²·δ⃛/3: with the hat's
+    Δt²/12·δ⃛, (5/12)·Δt²·c·δ⃛, δ⃛ = −Ḟ/m from the same change of force (m/s³)."""
+    return dt * dt * (k_n * length * closing_rate / 12.0 + 5.0 / 12.0 * damping * closing_jerk)
+
+
+@kernel(inline="always")
+def _dashpot(p, law, length):
+    """The normal dashpot of pair p, N·s/m: c_N, or 2ζ√(k_N·L·m) with the contact line L (m)."""
+    damping = law.c_n[p]
+    if law.zeta[p] > 0.0:
+        damping += 2.0 * law.zeta[p] * np.sqrt(law.k_n[p] * length * law.m_eff[p])
+    return damping
+
+
 @phase
 def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
     """F_N = k_N·A_c + c_N·s of pair p, never pulling (N): the dashpot (c_N, or 2ζ√(k_N·L·m))
     weighted by share + ½ at an episode's first step (module docstring); where its pull
     cancels the spring, the force ends within the step (_add_end_impulse)."""
     law, state, now, frame = contact.law, contact.state, contact.now, contact.clip.frame
-    damping = law.c_n[p]
-    if law.zeta[p] > 0.0:
-        damping += 2.0 * law.zeta[p] * np.sqrt(law.k_n[p] * frame[LENGTH] * law.m_eff[p])
+    damping = _dashpot(p, law, frame[LENGTH])
     if share < 1.0:
         damping *= share + 0.5  # its impulse since the touch (module docstring)
     f_n = law.k_n[p] * frame[AREA] - damping * v_n
@@ -585,10 +618,11 @@ def _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact):
 
 
 @phase
-def _log_impact(p, t_now, dt, share, f_n, f_t, missed, was_slipping, slipping, switched, contact):
+def _log_impact(p, t_now, dt, share, f_n, f_cell, f_t, missed, was_slipping, slipping, switched, contact):
     """Pair p's row of the impact log: opened at an episode's first step, where the outlines
-    met a share `share` of the step ago (share_since_crossing); its impulse, its peak normal
-    force (the crest through the last three steps, crest) with the action point, friction and
+    met a share `share` of the step ago (share_since_crossing); its impulse (of f_cell, the
+    force the step applies), its peak normal force f_n (the crest through the last three steps,
+    crest) with the action point, friction and
     normal there, its largest area, depth and contact line, and where it slipped and stuck
     (`switched`: (t_n − t_switch)/Δt of the last switch in the step, −1 for none)."""
     state, events, n_events, frame = contact.state, contact.events, contact.n_events, contact.clip.frame
@@ -623,7 +657,7 @@ def _log_impact(p, t_now, dt, share, f_n, f_t, missed, was_slipping, slipping, s
             events[e, EV_T_STICK] = np.nan
         if not slipping and (was_slipping or opened and switched >= 0.0):  # it stuck again
             events[e, EV_T_STICK] = t_switch
-        events[e, EV_IMPULSE] += (f_n + missed) * dt
+        events[e, EV_IMPULSE] += (f_cell + missed) * dt
         if f_n > events[e, EV_PEAK_FN]:
             events[e, EV_PEAK_FN] = f_n
             events[e, EV_X] = frame[CX]
@@ -700,9 +734,11 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         # last step (half-step velocities) and velocity now (for the dashpots)
         vax, vay = _point_velocity(fa, cx, cy, gax, gay, v_half)
         vbx, vby = _point_velocity(fb, cx, cy, gbx, gby, v_half)
-        slip_t = _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, vbx - vax, vby - vay, v_half,
-                                 state, now)  # fmt: skip
-        closed = -dt * ((vbx - vax) * nx + (vby - vay) * ny)  # over the last step at c, m
+        rel_x = vbx - vax
+        rel_y = vby - vay
+        slip_t = _slip_over_step(p, fa, fb, dt, cx, cy, tx, ty, gax, gay, gbx, gby, rel_x, rel_y, v_half, state,
+                                 now)  # fmt: skip
+        closed = -dt * (rel_x * nx + rel_y * ny)  # over the last step at c, m
         # and its change along t, per metre: B's turning relative to A's
         closed_turn = dt * ((v_half[3 * fb + 2] if fb >= 0 else 0.0) - (v_half[3 * fa + 2] if fa >= 0 else 0.0))
         share = 1.0  # of the last step spent in contact; below 1 only at an episode's first step
@@ -717,6 +753,21 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         turn = (v_est[3 * fb + 2] if fb >= 0 else 0.0) - (v_est[3 * fa + 2] if fa >= 0 else 0.0)
         # normal force: overlap-area spring and dashpot, never pulling
         f_n = _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact)
+        # what the step applies: the spring's average over the step's hat (cell_correction)
+        f_cell = f_n
+        if f_n > 0.0:
+            # the closing acceleration at c at t_{n−1} (Δv_{n−1} = 2·(v_est − v_{n−½})), and at t_n
+            # with this force's change since over the pair's mass (its jerk for the dashpot)
+            rate = -2.0 / dt * ((vbx - vax - rel_x) * nx + (vby - vay - rel_y) * ny)
+            if state[p, ST_ACTIVE] == 0:
+                correction = cell_correction(law.k_n[p], frame[LENGTH], 0.0, rate, 0.0, dt)
+            else:
+                change = (f_n - state[p, ST_LAW_FN]) / law.m_eff[p]
+                correction = cell_correction(law.k_n[p], frame[LENGTH], _dashpot(p, law, frame[LENGTH]),
+                                             rate - change, (rate - state[p, ST_RATE]) / dt, dt)  # fmt: skip
+            state[p, ST_RATE] = rate
+            state[p, ST_LAW_FN] = f_n
+            f_cell = max(0.0, f_n + correction)
         undamped = _undamped(law.c_n[p], law.zeta[p])
         # the overlap's depth along the contact line, and the points that touched within the last
         # step (their impulse is added below)
@@ -735,13 +786,18 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         spring, f_t, slipping, switched = _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact)
         state[p, ST_FT] = spring
         state[p, ST_SLIP] = 1.0 if slipping else 0.0
-        # forces on B (+) and A (−) at the action point
+        # forces on B (+) and A (−) at the action point: the law's, and what the step applies (a
+        # slipping contact's friction follows the normal force)
         fx = f_n * nx + f_t * tx
         fy = f_n * ny + f_t * ty
-        _apply(fb, fx, fy, cx, cy, gbx, gby, forces)
-        _apply(fa, -fx, -fy, cx, cy, gax, gay, forces)
         state[p, ST_FX] = fx
         state[p, ST_FY] = fy
+        if f_cell != f_n:
+            applied_t = f_t * f_cell / f_n if slipping else f_t
+            fx = f_cell * nx + applied_t * tx
+            fy = f_cell * ny + applied_t * ty
+        _apply(fb, fx, fy, cx, cy, gbx, gby, forces)
+        _apply(fa, -fx, -fy, cx, cy, gax, gay, forces)
         # the spring's kinks where points of the overlap touched within the last step or part
         # within the next (without a dashpot: with one, the force ends where its pull cancels)
         if f_n > 0.0:
@@ -762,13 +818,16 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
                 _apply(fa, -mx, -my, px, py, gax, gay, forces)
         state[p, ST_NX] = nx
         state[p, ST_NY] = ny
-        now[p, NOW_FN] = f_n
-        now[p, NOW_FT] = f_t
+        # the forces at t_n: the steps run ahead of the law by half the hat's correction (a sliding
+        # contact's friction follows the normal force)
+        now[p, NOW_FN] = 0.5 * (f_n + f_cell)
+        now[p, NOW_FT] = f_t * now[p, NOW_FN] / f_n if slipping and f_cell != f_n else f_t
         now[p, NOW_AREA] = frame[AREA]
         now[p, NOW_X] = cx
         now[p, NOW_Y] = cy
         now[p, NOW_DEPTH] = frame[DEPTH]
-        _log_impact(p, t_now, dt, share, f_n, f_t, missed, was_slipping, slipping, switched, contact)
+        _log_impact(p, t_now, dt, share, now[p, NOW_FN], f_cell, now[p, NOW_FT], missed, was_slipping, slipping,
+                    switched, contact)  # fmt: skip
     broad.n_live[0] = in_contact
     return in_contact
 
