@@ -297,10 +297,10 @@ def test_stick_slip_converges_at_second_order(c_t):
     beside the spring, 2 %, 20 % and 79 % of the critical 2√(k_T·m) (docs/theory.md, "The
     tangential dashpot": the spring relaxes while the contact slips, exactly over the part of
     the step the slip took): it falls by more than 32 over the four halvings, twice what first
-    order gives (16; second gives 256: measured 270, 300, 63, 440, the third at the reference's
+    order gives (16; second gives 256: measured 250, 270, 100, 460, the third at the reference's
     own error, 4e-9 m, from 1.25e-5 s on; with the drop at the step's end, order 1.4 and 30×
     larger errors), and is within 2e-5 of the 5 cm amplitude at the coarsest step (measured
-    5.0e-7, 7.9e-7, 3.0e-7, 6.0e-7 m: 0.7–1.6e-5 of it; 2.2e-6 m
+    4.5e-7, 7.8e-7, 4.5e-7, 6.4e-7 m: 0.9–1.6e-5 of it; 2.2e-6 m
     without a dashpot and up to 2.6e-6 m with one before the step's force became the hat's
     average, contact.cell_correction). Without a dashpot, the fitted order ≥ 1.8 (measured
     2.0); with one, the finer errors reach the reference's own (4e-9 m) and a fit means less."""

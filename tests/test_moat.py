@@ -205,16 +205,20 @@ def test_contact_starts_when_the_slab_reaches_the_gap(moat_run):
 
 
 def test_moat_force_is_its_own_k_normal_times_area(moat_run):
-    """F_N = k_N·A_c with the moat's k_N, at every stored sample in contact (rounding: 1e-12),
-    and A_c = 6 m × (u_b − gap), the slab's edge pressed into the wall's straight inner face
-    (1e-9 of the area: the clipping of outlines ~6 m across, rounding only)."""
+    """F_N = k_N·A_c with the moat's k_N, at every stored sample in contact, and A_c = 6 m ×
+    (u_b − gap), the slab's edge pressed into the wall's straight inner face (1e-9 of the
+    area: the clipping of outlines ~6 m across, rounding only). The stored F_N is the force at
+    t_n: the law's k_N·A_c at the stored state plus half of what the step adds to apply the
+    force's average over its hat (contact.cell_correction, theory §10), which runs the state
+    ahead of the law by (ω·Δt)²/24 of it (ω = √(k_N·6 m/36 t) = 289 rad/s): within 1e-5 of
+    k_N·A_c (measured 2.5e-6; before the hat's correction it was k_N·A_c to rounding)."""
     _, stored = moat_run
     c = stored.contact
     pair = [str(b) for b in c.pairs["body_b"]].index("iso.moat2")
     assert c.pairs["k_normal"][pair] == K_MOAT
     touching = c.area[:, pair] > 0
     assert touching.sum() > 10
-    np.testing.assert_allclose(c.normal_force[touching, pair], K_MOAT * c.area[touching, pair], rtol=1e-12)
+    np.testing.assert_allclose(c.normal_force[touching, pair], K_MOAT * c.area[touching, pair], rtol=1e-5)
     u_b = stored.buildings["iso"].displacement[touching, 0, 0]
     np.testing.assert_allclose(c.area[touching, pair], SIZE * (u_b - GAP), rtol=1e-9)
     assert not c.area[:, [k for k in range(c.pairs.size) if k != pair]].any()  # only the +x wall
@@ -242,4 +246,5 @@ def test_isolated_building_hits_its_moat_and_a_neighbour_in_one_run(tmp_path):
         pair = [str(b) for b in c.pairs["body_b"]].index(body)
         touching = c.area[:, pair] > 0
         assert touching.any(), body
-        np.testing.assert_allclose(c.normal_force[touching, pair], k_n * c.area[touching, pair], rtol=1e-12)
+        # the stored F_N: k_N·A_c plus half the step's hat correction (test_moat_force_is_its_own_k_normal_times_area)
+        np.testing.assert_allclose(c.normal_force[touching, pair], k_n * c.area[touching, pair], rtol=1e-5)

@@ -70,8 +70,9 @@ def test_a_run_stores_only_the_pairs_that_touched(tmp_path):
 
 def test_a_file_written_by_the_dense_layout_still_reads(tmp_path):
     """The file of main's code reads, reports and exports; its values are today's run of the
-    same model (to 1e-9 of each history's size: the same code path, bit for bit on the machine
-    that wrote it)."""
+    same model to 1e-5 of each history's size (they were to 1e-9, the same code path bit for bit
+    on the machine that wrote it, until each contact step applied the force's average over its
+    hat, contact.cell_correction: a change of order (ω·Δt)²/24 ≈ 1e-6 of the impact's values)."""
     old = pound.read_hdf5(OLD)
     with h5py.File(OLD) as f:
         assert f["impacts/normal_force"].chunks is None, "the file has the dense layout"
@@ -82,10 +83,10 @@ def test_a_file_written_by_the_dense_layout_still_reads(tmp_path):
         model.unlink()
     for name in ("normal_force", "area", "depth"):
         a, b = getattr(old.contact, name), getattr(now.contact, name)
-        assert np.allclose(a, b, rtol=0, atol=1e-9 * np.abs(b).max()), name
+        assert np.allclose(a, b, rtol=0, atol=1e-5 * np.abs(b).max()), name
     for name, bld in now.buildings.items():
         assert np.allclose(old.buildings[name].displacement, bld.displacement, rtol=0,
-                           atol=1e-9 * np.abs(bld.displacement).max())  # fmt: skip
+                           atol=1e-5 * np.abs(bld.displacement).max())  # fmt: skip
     report = subprocess.run([sys.executable, "-m", "pounding_cli", "report", str(OLD), "--json"], capture_output=True,
                             text=True)  # fmt: skip
     assert report.returncode == 0, report.stderr

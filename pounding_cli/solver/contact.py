@@ -118,10 +118,11 @@ ST_FN1, ST_FN2 = ST_REST + 6, ST_REST + 7
 # ST_EXCESS: the trial |F_T| over μ_k·F_N, N, and ST_VT: B's tangential velocity on A at c, m/s,
 # at the last step (where a slip ends between two steps: _tangential_force)
 ST_EXCESS, ST_VT = ST_REST + 8, ST_REST + 9
-# ST_RATE: the closing acceleration at c one step back, m/s², and ST_LAW_FN: the law's normal force
-# then, N (cell_correction)
-ST_RATE, ST_LAW_FN = ST_REST + 10, ST_REST + 11
-N_STATE = ST_REST + 12
+# ST_RATE: the closing acceleration at c one step back, m/s² (cell_correction); ST_LAW_FN, ST_LAW_FT:
+# the law's normal and tangential force then, N (the law's own values, which contact.now's
+# reported ones differ from by half the hat's correction: cell_correction)
+ST_RATE, ST_LAW_FN, ST_LAW_FT = ST_REST + 10, ST_REST + 11, ST_REST + 12
+N_STATE = ST_REST + 13
 FRAME_VERTICES = RESULT_SIZE
 """Where narrow_phase leaves the overlap polygon's vertex count in the frame vector."""
 
@@ -245,10 +246,10 @@ def _add_end_impulse(fall, held, p, fa, fb, gax, gay, gbx, gby, dt, state, now, 
     the normal force falling by `fall` N over a step, add what its last step missed
     (kink_impulse), at its action point and in the direction of its last force (friction fades
     with the normal force)."""
-    if not (held > 0.0 and now[p, NOW_FN] > 0.0):
+    if not (held > 0.0 and state[p, ST_LAW_FN] > 0.0):
         return
     missed = kink_impulse(fall, held)
-    scale = missed / now[p, NOW_FN]
+    scale = missed / state[p, ST_LAW_FN]
     _apply(fb, scale * state[p, ST_FX], scale * state[p, ST_FY], now[p, NOW_X], now[p, NOW_Y], gbx, gby, forces)
     _apply(fa, -scale * state[p, ST_FX], -scale * state[p, ST_FY], now[p, NOW_X], now[p, NOW_Y], gax, gay, forces)
     e = int(state[p, ST_EVENT])
@@ -297,7 +298,7 @@ def _add_parting(p, opened, k_n, mu_s, mu_k, c_t, fa, fb, gax, gay, gbx, gby, dt
     normal, at the offset along t they give, with a slipping contact's friction (±μ_k: the
     spring's force, or the slider's where a dashpot c_T > 0 stands beside it). Where the
     contact was still stuck, the friction's end too (_fading_friction)."""
-    if not (opened > 0.0 and now[p, NOW_FN] > 0.0):
+    if not (opened > 0.0 and state[p, ST_LAW_FN] > 0.0):
         return
     r = opened
     i0 = state[p, ST_REST + 2] / (2.0 * r) - 0.5 * state[p, ST_REST + 1] + 0.125 * r * state[p, ST_REST]
@@ -311,7 +312,8 @@ def _add_parting(p, opened, k_n, mu_s, mu_k, c_t, fa, fb, gax, gay, gbx, gby, dt
     missed = k_n * i0
     if missed > 0.0:
         slipped = state[p, ST_SLIP] > 0
-        along = _slip_ratio(state[p, ST_FT], now[p, NOW_FT], now[p, NOW_FN], mu_k, c_t) if slipped else 0.0
+        along = _slip_ratio(state[p, ST_FT], state[p, ST_LAW_FT], state[p, ST_LAW_FN], mu_k, c_t) if slipped \
+            else 0.0
         px = cx + i1 / i0 * tx
         py = cy + i1 / i0 * ty
         _apply(fb, missed * (nx + along * tx), missed * (ny + along * ty), px, py, gbx, gby, forces)
@@ -319,9 +321,9 @@ def _add_parting(p, opened, k_n, mu_s, mu_k, c_t, fa, fb, gax, gay, gbx, gby, dt
         e = int(state[p, ST_EVENT])
         if e < events.shape[0]:
             events[e, EV_IMPULSE] += missed * dt
-    f_t = now[p, NOW_FT]
+    f_t = state[p, ST_LAW_FT]
     if state[p, ST_SLIP] == 0 and f_t != 0.0 and state[p, ST_DEEPEST] > 0.0:
-        fade = _fading_friction(f_t, now[p, NOW_FN], mu_s, mu_k, min(1.0, state[p, ST_DEEPEST] / r))
+        fade = _fading_friction(f_t, state[p, ST_LAW_FN], mu_s, mu_k, min(1.0, state[p, ST_DEEPEST] / r))
         _apply(fb, fade * tx, fade * ty, cx, cy, gbx, gby, forces)
         _apply(fa, -fade * tx, -fade * ty, cx, cy, gax, gay, forces)
 
@@ -498,6 +500,8 @@ def _end_episode(p, t_now, dt, u, v_half, gax, gay, gbx, gby, contact):
     state[p, ST_SLIP] = 0.0
     state[p, ST_FX] = 0.0
     state[p, ST_FY] = 0.0
+    state[p, ST_LAW_FN] = 0.0
+    state[p, ST_LAW_FT] = 0.0
     for k in range(now.shape[1]):
         now[p, k] = 0.0
 
@@ -548,8 +552,9 @@ def _normal_force(p, share, v_n, gax, gay, gbx, gby, dt, contact):
         if state[p, ST_ACTIVE] > 0:
             fa = contact.bodies.floor[law.a[p]]
             fb = contact.bodies.floor[law.b[p]]
-            _add_end_impulse(now[p, NOW_FN] - f_n, now[p, NOW_FN] / (now[p, NOW_FN] - f_n), p, fa, fb, gax,
-                             gay, gbx, gby, dt, state, now, contact.events, contact.force)  # fmt: skip
+            last = state[p, ST_LAW_FN]
+            _add_end_impulse(last - f_n, last / (last - f_n), p, fa, fb, gax, gay, gbx, gby, dt, state, now,
+                             contact.events, contact.force)  # fmt: skip
         f_n = 0.0
     return f_n
 
@@ -574,7 +579,7 @@ def _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact):
     trial = spring - law.c_t[p] * v_t
     slipping = state[p, ST_SLIP] > 0
     if slipping:  # it sticks again where μ_k·Ḟ_N fell to k_T·v_T (_stick_shortfall)
-        held, held_back = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k, now[p, NOW_FN], f_n,
+        held, held_back = _stick_shortfall(abs(spring - state[p, ST_FT]), mu_k, state[p, ST_LAW_FN], f_n,
                                            -k_n * frame[LENGTH] * v_n * dt)  # fmt: skip
         if held < 0.0 and abs(trial) + held <= mu_k * f_n:
             sign = 1.0 if trial > 0 else -1.0
@@ -588,19 +593,19 @@ def _tangential_force(p, share, f_n, slip_t, v_t, v_n, dt, contact):
         sign = 1.0 if trial > 0 else -1.0
         target = sign * mu_k * f_n
         if not slipping and state[p, ST_ACTIVE] > 0:  # stick gave way within the last step
-            before = abs(now[p, NOW_FT]) - mu_s * now[p, NOW_FN]
+            before = abs(state[p, ST_LAW_FT]) - mu_s * state[p, ST_LAW_FN]
             after = abs(trial) - limit
             back = crossing_share(after, before) if before < 0.0 else 1.0
             # the slip began there: the spring followed the stuck path until then
             start = state[p, ST_FT] + (spring - state[p, ST_FT]) * (1.0 - back)
-            spring = _slipping_spring(start, sign * mu_k * (f_n + back * (now[p, NOW_FN] - f_n)), target, back, dt,
-                                      law.k_t[p], law.c_t[p])  # fmt: skip
-            trial = target + sign * _kinetic_shortfall(before, after, now[p, NOW_FN], f_n, mu_s, mu_k)
+            spring = _slipping_spring(start, sign * mu_k * (f_n + back * (state[p, ST_LAW_FN] - f_n)), target, back,
+                                      dt, law.k_t[p], law.c_t[p])  # fmt: skip
+            trial = target + sign * _kinetic_shortfall(before, after, state[p, ST_LAW_FN], f_n, mu_s, mu_k)
         else:  # slipping since the touch (the spring unloaded there) or since the last step
             if state[p, ST_ACTIVE] == 0:
                 spring = _slipping_spring(0.0, 0.0, target, share, dt, law.k_t[p], law.c_t[p])
             else:
-                spring = _slipping_spring(state[p, ST_FT], sign * mu_k * now[p, NOW_FN], target, 1.0, dt,
+                spring = _slipping_spring(state[p, ST_FT], sign * mu_k * state[p, ST_LAW_FN], target, 1.0, dt,
                                           law.k_t[p], law.c_t[p])  # fmt: skip
             trial = target
         slipping = True
@@ -766,7 +771,6 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
                 correction = cell_correction(law.k_n[p], frame[LENGTH], _dashpot(p, law, frame[LENGTH]),
                                              rate - change, (rate - state[p, ST_RATE]) / dt, dt)  # fmt: skip
             state[p, ST_RATE] = rate
-            state[p, ST_LAW_FN] = f_n
             f_cell = max(0.0, f_n + correction)
         undamped = _undamped(law.c_n[p], law.zeta[p])
         # the overlap's depth along the contact line, and the points that touched within the last
@@ -820,6 +824,8 @@ def contact_forces(n, dt, u, v_half, v_est, contact):
         state[p, ST_NY] = ny
         # the forces at t_n: the steps run ahead of the law by half the hat's correction (a sliding
         # contact's friction follows the normal force)
+        state[p, ST_LAW_FN] = f_n
+        state[p, ST_LAW_FT] = f_t
         now[p, NOW_FN] = 0.5 * (f_n + f_cell)
         now[p, NOW_FT] = f_t * now[p, NOW_FN] / f_n if slipping and f_cell != f_n else f_t
         now[p, NOW_AREA] = frame[AREA]
