@@ -337,7 +337,8 @@ def column_modes_capped(scene: "Scene") -> Iterator[Notice]:
     would need more (local_modes.auto_modes): its first peak force and shear are then less
     accurate than the validation report's figures for the rule."""
     from .assembly.contact import _crossing_kn
-    from .assembly.local_modes import AUTO_RATIO, MAX_MODES, clamped_beta
+    from .assembly.local_modes import AUTO_RATIO, MAX_MODES, highest_mode_ratio
+    from .assembly.storey_contact import facade_stiffness
 
     contact = scene.loaded.model.contact
     if contact.column_modes != "auto":
@@ -348,9 +349,8 @@ def column_modes_capped(scene: "Scene") -> Iterator[Notice]:
         if body.modes != MAX_MODES:
             continue
         k_face = _crossing_kn(scene.loaded, buildings, body.crossing, contact, {}) * body.line
-        struck = buildings[body.crossing.struck]
-        k_columns = sum(float(body.normal @ struck.columns[i].plan_stiffness @ body.normal) for i in body.columns)
-        ratio = float(np.sqrt(clamped_beta(MAX_MODES) ** 4 / 12.0 * k_columns / k_face)) if k_face > 0 else np.inf
+        k_columns = facade_stiffness(buildings[body.crossing.struck], body.columns, body.normal)
+        ratio = highest_mode_ratio(MAX_MODES, k_face, k_columns) if k_face > 0 else np.inf
         key = (body.crossing.struck, body.crossing.storey, body.columns)
         if ratio < AUTO_RATIO and key not in said:
             said.add(key)

@@ -160,13 +160,19 @@ def bundle_modes(struck, building: int, storey: int, columns: tuple[int, ...], n
             for k in range(1, n_modes + 1)]  # fmt: skip
 
 
-def auto_modes(face_stiffness: float, column_stiffness: float, mass: float) -> int:
-    """The fewest local modes (1 … MAX_MODES) whose highest, √((β_k⁴/12)·K/m), reaches AUTO_RATIO
-    times the contact's own frequency √(k_c/m): face_stiffness k_c = k_N·L (N/m), column_stiffness
-    K the struck columns' summed 12EI/h³ along the façade's normal (N/m), mass theirs (kg)."""
-    target = AUTO_RATIO**2 * face_stiffness
+def highest_mode_ratio(n_modes: int, face_stiffness: float, column_stiffness: float) -> float:
+    """How many times the contact's own frequency √(k_c/m) the highest of n_modes local modes
+    reaches on fixed floors, √((β_n⁴/12)·K/m) over it (the columns' mass m cancels):
+    face_stiffness k_c = k_N·L (N/m), column_stiffness K the struck columns' summed 12EI/h³
+    along the façade's normal (N/m)."""
+    return float(np.sqrt(clamped_beta(n_modes) ** 4 / 12.0 * column_stiffness / face_stiffness))
+
+
+def auto_modes(face_stiffness: float, column_stiffness: float) -> int:
+    """The fewest local modes (1 … MAX_MODES) whose highest reaches AUTO_RATIO times the
+    contact's own frequency (highest_mode_ratio)."""
     for k in range(1, MAX_MODES + 1):
-        if clamped_beta(k) ** 4 / 12.0 * column_stiffness >= target:
+        if highest_mode_ratio(k, face_stiffness, column_stiffness) >= AUTO_RATIO:
             return k
     return MAX_MODES
 

@@ -134,6 +134,11 @@ def struck_columns(struck: BuildingArrays, storey: int, p: np.ndarray, q: np.nda
     return tuple(sorted(min(side)[1] for side in (left, right) if side))
 
 
+def facade_stiffness(struck: BuildingArrays, columns: tuple[int, ...], direction: np.ndarray) -> float:
+    """The columns' summed storey stiffness 12EI/h³ along a unit plan direction, N/m."""
+    return sum(float(direction @ struck.columns[i].plan_stiffness @ direction) for i in columns)
+
+
 def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, column_modes: int | str = 0,
                 k_normal: float = 0.0) -> StoreyBody:  # fmt: skip
     """The storey body of a slab–storey crossing: its kinematic weights, the struck façade and
@@ -154,12 +159,12 @@ def storey_body(buildings: list[BuildingArrays], crossing: StoreyCrossing, colum
     normal = np.array([e[1], -e[0]])
     columns = struck_columns(struck, crossing.storey, p, q, start, line)
     factor = point_load_factor(crossing.xi)
-    k_n = sum(float(normal @ struck.columns[i].plan_stiffness @ normal) for i in columns) / factor
-    k_t = sum(float(e @ struck.columns[i].plan_stiffness @ e) for i in columns) / factor
+    k_n = facade_stiffness(struck, columns, normal) / factor
+    k_t = facade_stiffness(struck, columns, e) / factor
     arm = struck.mass_centre[above] - struck.mass_centre[below] if below >= 0 else np.zeros(2)
     mass = float(sum(struck.columns[i].mass for i in columns))
     if column_modes == "auto":
-        column_modes = auto_modes(k_normal * line, k_n * factor, mass) if mass > 0 and k_n > 0 else 0
+        column_modes = auto_modes(k_normal * line, k_n * factor) if mass > 0 and k_n > 0 else 0
     modes = int(column_modes) if mass > 0 else 0
     kept = residual_fraction(crossing.xi, modes)
     return StoreyBody(crossing, below, above, storey_shape(crossing.xi), arm, normal, line, columns,
